@@ -1,0 +1,42 @@
+//! `lens bench`: throughput of the batch tracer on one thread.
+
+use crate::{print_json, CmdResult};
+use lens::{bench::Workload, Prescription};
+use serde_json::json;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Prescription file (.json or pbrt .dat).
+    file: PathBuf,
+    /// Number of rays per pass.
+    #[arg(long, default_value_t = 1_000_000)]
+    rays: usize,
+    /// Print one JSON object.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: Args) -> CmdResult {
+    let p = Prescription::load(&a.file)?;
+    let w = Workload::new(&p, a.rays)?;
+    let m = w.measure(std::time::Duration::from_millis(1500));
+    if a.json {
+        print_json(&json!({
+            "rays": a.rays,
+            "surfaces": p.surfaces().len(),
+            "passes": m.passes,
+            "seconds": m.seconds,
+            "rays_per_second": m.rays_per_second,
+            "ray_surface_per_second": m.ray_surface_per_second,
+            "reached_fraction": m.reached_fraction,
+        }));
+    } else {
+        println!("{} rays x {} passes through {} surfaces, one thread", a.rays, m.passes, p.surfaces().len());
+        println!("  {:.3e} rays/s", m.rays_per_second);
+        println!("  {:.3e} ray-surface intersections/s", m.ray_surface_per_second);
+        println!("  {:.1}% of rays reach the film", 100.0 * m.reached_fraction);
+    }
+    Ok(ExitCode::SUCCESS)
+}

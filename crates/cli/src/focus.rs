@@ -1,0 +1,53 @@
+//! `lens focus`: the film distance that focuses an object.
+
+use crate::{load, object_distance, print_json, CmdResult};
+use serde_json::json;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Prescription file (.json or pbrt .dat).
+    file: PathBuf,
+    /// Object distance in mm in front of the first vertex (`inf` for infinity).
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    object_distance: f64,
+    /// Resize the stop to this f-number first.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    f_number: Option<f64>,
+    /// Print one JSON object.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: Args) -> CmdResult {
+    let p = load(&a.file, a.f_number)?;
+    let object = object_distance(Some(a.object_distance))?;
+    let f = lens::focus::focus(&p, object)?;
+    if a.json {
+        print_json(&json!({
+            "object_distance": a.object_distance,
+            "film_distance": f.film_distance,
+            "best_focus_film_distance": f.best_focus_film_distance,
+            "rms_radius_at_paraxial_focus": f.rms_radius_at_paraxial_focus,
+            "rms_radius_at_best_focus": f.rms_radius_at_best_focus,
+            "pupil_fill": f.pupil_fill,
+        }));
+        return Ok(ExitCode::SUCCESS);
+    }
+    println!("object distance        {} mm in front of the first vertex", a.object_distance);
+    println!("film distance          {:.9} mm behind the last vertex (paraxial)", f.film_distance);
+    println!(
+        "best focus (real rays) {:.9} mm ({:+.6} mm from paraxial)",
+        f.best_focus_film_distance,
+        f.best_focus_film_distance - f.film_distance
+    );
+    println!(
+        "RMS spot radius        {:.6} mm at paraxial focus, {:.6} mm at best focus",
+        f.rms_radius_at_paraxial_focus, f.rms_radius_at_best_focus
+    );
+    if f.pupil_fill < 1.0 {
+        println!("on-axis bundle fills   {:.4} of the entrance pupil radius (vignetted)", f.pupil_fill);
+    }
+    Ok(ExitCode::SUCCESS)
+}

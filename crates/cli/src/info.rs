@@ -1,0 +1,86 @@
+//! `lens info`: first-order properties of a prescription.
+
+use crate::{load, object_distance, print_json, CmdResult};
+use lens::paraxial::{imaging, FirstOrder, ObjectDistance};
+use serde_json::json;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Prescription file (.json or pbrt .dat).
+    file: PathBuf,
+    /// Object distance in mm in front of the first vertex (default: infinity).
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    object_distance: Option<f64>,
+    /// Resize the stop to this f-number (object at infinity).
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    f_number: Option<f64>,
+    /// Print one JSON object instead of a table.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: Args) -> CmdResult {
+    let p = load(&a.file, a.f_number)?;
+    let object = object_distance(a.object_distance)?;
+    let f = FirstOrder::of(&p)?;
+    let img = imaging(&p, &f, object)?;
+    let pupil = |z: Option<f64>, d: Option<f64>| json!({"z": z, "diameter": d});
+    if a.json {
+        print_json(&json!({
+            "name": p.name(),
+            "efl": f.efl,
+            "bfl": f.bfl,
+            "ffd": f.ffd,
+            "front_principal_plane": f.front_principal_plane,
+            "back_principal_plane": f.back_principal_plane,
+            "entrance_pupil": pupil(Some(f.entrance_pupil.z), Some(f.entrance_pupil.diameter)),
+            "exit_pupil": pupil(f.exit_pupil.map(|x| x.z), f.exit_pupil.map(|x| x.diameter)),
+            "f_number": f.f_number,
+            "working_f_number": img.working_f_number,
+            "image_distance": img.image_distance,
+            "magnification": img.magnification,
+            "total_track": f.total_track,
+        }));
+        return Ok(ExitCode::SUCCESS);
+    }
+    let name = if p.name().is_empty() { a.file.display().to_string() } else { p.name().to_string() };
+    println!("{name}");
+    if let Some(s) = p.source() {
+        println!("  source: {s}");
+    }
+    println!(
+        "  {} surfaces, stop at surface {} (semi-diameter {:.4} mm)",
+        p.surfaces().len(),
+        p.stop_index() + 1,
+        p.stop_semi_diameter()
+    );
+    println!("  z is measured from the first vertex, +z toward the image; mm");
+    let row = |k: &str, v: String| println!("  {k:<28} {v}");
+    row("effective focal length", format!("{:.6}", f.efl));
+    row("back focal length", format!("{:.6}  (from the last vertex)", f.bfl));
+    row("front focal point z", format!("{:.6}", f.ffd));
+    row("front principal plane z", format!("{:.6}", f.front_principal_plane));
+    row("back principal plane z", format!("{:.6}", f.back_principal_plane));
+    row("entrance pupil", format!("z {:.6}, diameter {:.6}", f.entrance_pupil.z, f.entrance_pupil.diameter));
+    row(
+        "exit pupil",
+        match f.exit_pupil {
+            Some(x) => format!("z {:.6}, diameter {:.6}", x.z, x.diameter),
+            None => "at infinity (telecentric in image space)".into(),
+        },
+    );
+    row("f-number", format!("{:.4}", f.f_number));
+    let obj = match object {
+        ObjectDistance::Infinity => "infinity".to_string(),
+        ObjectDistance::Finite(d) => format!("{d} mm"),
+    };
+    row("object distance", obj);
+    row("image distance", format!("{:.6}  (from the last vertex)", img.image_distance));
+    row("magnification", format!("{:.6}", img.magnification));
+    row("working f-number", format!("{:.4}", img.working_f_number));
+    row("film distance", format!("{:.6}  (last thickness)", p.film_distance()));
+    row("total track", format!("{:.6}", f.total_track));
+    Ok(ExitCode::SUCCESS)
+}

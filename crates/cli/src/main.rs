@@ -1,0 +1,73 @@
+//! `lens`: the command line over the `lens` library. Parses flags, calls the
+//! library, prints. Exit codes: 0 success, 1 a finding or computation error,
+//! 2 bad usage.
+
+mod bench;
+mod convert;
+mod focus;
+mod info;
+mod validate;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "lens", version, about = "Real camera lenses: prescriptions, exact ray tracing, paraxial optics")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// First-order properties: focal lengths, principal planes, pupils, f-number.
+    Info(info::Args),
+    /// Check prescription files and list every finding.
+    Validate(validate::Args),
+    /// Film distance that focuses an object: paraxial and real-ray best focus.
+    Focus(focus::Args),
+    /// Convert a prescription (e.g. a pbrt .dat file) to the JSON format.
+    Convert(convert::Args),
+    /// Time the batch ray tracer on one core.
+    Bench(bench::Args),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Info(a) => info::run(a),
+        Command::Validate(a) => validate::run(a),
+        Command::Focus(a) => focus::run(a),
+        Command::Convert(a) => convert::run(a),
+        Command::Bench(a) => bench::run(a),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+/// Errors a command reports (already formatted by the library).
+type CmdResult = Result<ExitCode, Box<dyn std::error::Error>>;
+
+/// Loads a prescription and applies an optional f-number override.
+fn load(path: &std::path::Path, f_number: Option<f64>) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
+    let p = lens::Prescription::load(path)?;
+    Ok(match f_number {
+        Some(n) => p.with_f_number(n)?,
+        None => p,
+    })
+}
+
+/// Parses an object distance in mm; `inf` or `infinity` means infinity.
+fn object_distance(mm: Option<f64>) -> Result<lens::paraxial::ObjectDistance, lens::OpticsError> {
+    lens::paraxial::ObjectDistance::from_mm(mm.unwrap_or(f64::INFINITY))
+}
+
+/// Prints a JSON value on one line.
+fn print_json(v: &serde_json::Value) {
+    println!("{v}");
+}

@@ -1,0 +1,169 @@
+//! Focus solving: the film distance that images an object, paraxially
+//! (exact first order) and by real rays (the film position of least RMS spot
+//! of the on-axis bundle); and the inverse, the object in focus for a film.
+
+use crate::error::OpticsError;
+use crate::paraxial::{imaging, object_in_focus, FirstOrder, ObjectDistance};
+use crate::prescription::Prescription;
+use crate::quadrature::gauss_legendre;
+use crate::ray::Ray;
+use crate::trace::Tracer;
+use glam::DVec3;
+use serde::Serialize;
+
+/// Gauss–Legendre nodes over the pupil area for the on-axis bundle. The
+/// transverse error is a smooth odd series in the pupil radius, so 48 nodes
+/// integrate its square to rounding on every shipped lens (see docs/focus.md).
+pub const BUNDLE_NODES: usize = 48;
+
+/// Result of focusing on an on-axis object.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Focus {
+    /// Paraxial film distance (last vertex to the paraxial image), mm.
+    pub film_distance: f64,
+    /// Film distance of least RMS spot radius of the real on-axis bundle, mm.
+    pub best_focus_film_distance: f64,
+    /// RMS spot radius of the real bundle on the paraxial film, mm.
+    pub rms_radius_at_paraxial_focus: f64,
+    /// RMS spot radius of the real bundle at best focus, mm.
+    pub rms_radius_at_best_focus: f64,
+    /// Fraction of the entrance-pupil radius that the real bundle fills
+    /// (1 when no clear aperture vignettes the on-axis bundle).
+    pub pupil_fill: f64,
+}
+
+/// The paraxial film distance (last vertex to image, mm) that focuses an
+/// object. Errors at the front focal plane and where the image is not real
+/// (behind the film side of the last vertex).
+///
+/// ```
+/// use lens::{Prescription, paraxial::ObjectDistance, focus::film_distance};
+/// let p = Prescription::from_json_str(r#"{"surfaces": [
+///   {"radius": 51.5, "thickness": 3.6, "ior": 1.5168, "semi_diameter": 12.7, "stop": true},
+///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
+/// let far = film_distance(&p, ObjectDistance::Infinity).unwrap();
+/// let near = film_distance(&p, ObjectDistance::Finite(1000.0)).unwrap();
+/// assert!(near > far); // nearer objects focus farther back
+/// ```
+pub fn film_distance(p: &Prescription, object: ObjectDistance) -> Result<f64, OpticsError> {
+    let first = FirstOrder::of(p)?;
+    let img = imaging(p, &first, object)?;
+    if img.image_distance > 0.0 {
+        Ok(img.image_distance)
+    } else {
+        let d = match object {
+            ObjectDistance::Infinity => f64::MAX,
+            ObjectDistance::Finite(d) => d,
+        };
+        Err(OpticsError::NoRealImage { object_distance: d, image_distance: img.image_distance, ffd: first.ffd })
+    }
+}
+
+/// The object in focus on a film `film_distance` mm behind the last vertex
+/// (the inverse of [`film_distance`]).
+pub fn object_distance_in_focus(p: &Prescription, film_distance: f64) -> Result<ObjectDistance, OpticsError> {
+    let first = FirstOrder::of(p)?;
+    object_in_focus(p, &first, film_distance)
+}
+
+/// Focuses on `object`: the paraxial film distance and the real-ray best
+/// focus beside it.
+pub fn focus(p: &Prescription, object: ObjectDistance) -> Result<Focus, OpticsError> {
+    let film = film_distance(p, object)?;
+    let bundle = AxialBundle::trace(p, object, film)?;
+    let (t, rms_best) = bundle.least_rms_shift();
+    Ok(Focus {
+        film_distance: film,
+        best_focus_film_distance: film + t,
+        rms_radius_at_paraxial_focus: bundle.rms_at(0.0),
+        rms_radius_at_best_focus: rms_best,
+        pupil_fill: bundle.fill,
+    })
+}
+
+/// The real on-axis bundle sampled on Gauss–Legendre rings of the entrance
+/// pupil, each ring's meridional ray on a reference film plane.
+struct AxialBundle {
+    /// Per ring: quadrature weight, height on the reference film, slope dy/dz.
+    rings: Vec<(f64, f64, f64)>,
+    fill: f64,
+}
+
+impl AxialBundle {
+    fn trace(p: &Prescription, object: ObjectDistance, film: f64) -> Result<Self, OpticsError> {
+        let first = FirstOrder::of(p)?;
+        let tracer = Tracer::forward_to_film(p, film);
+        let ep = first.entrance_pupil;
+        let r_ep = ep.diameter / 2.0;
+        let ray_at = |rho: f64| -> Option<Ray> {
+            let aim = DVec3::new(0.0, rho * r_ep, ep.z);
+            let r = match object {
+                ObjectDistance::Infinity => Ray::new(aim, DVec3::Z)?,
+                ObjectDistance::Finite(d) => {
+                    let o = DVec3::new(0.0, 0.0, -d);
+                    Ray::new(o, aim - o)?
+                }
+            };
+            tracer.trace(r).reached().filter(|r| r.direction.z != 0.0)
+        };
+        if ray_at(0.0).is_none() {
+            return Err(OpticsError::NoRealRays { why: "the axial ray does not reach the film".into() });
+        }
+        // Largest pupil fraction whose meridional ray passes.
+        let fill = if ray_at(1.0).is_some() {
+            1.0
+        } else {
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..60 {
+                let mid = 0.5 * (lo + hi);
+                if ray_at(mid).is_some() {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            lo
+        };
+        if fill <= 0.0 {
+            return Err(OpticsError::NoRealRays { why: "every off-axis ray of the bundle is blocked".into() });
+        }
+        let (nodes, weights) = gauss_legendre(BUNDLE_NODES, 0.0, fill * fill);
+        let mut rings = Vec::with_capacity(BUNDLE_NODES);
+        for (u, w) in nodes.iter().zip(&weights) {
+            let Some(r) = ray_at(u.sqrt()) else {
+                return Err(OpticsError::NoRealRays {
+                    why: format!("the ray at {:.4} of the pupil radius is blocked inside the passing zone", u.sqrt()),
+                });
+            };
+            rings.push((*w, r.origin.y, r.direction.y / r.direction.z));
+        }
+        Ok(AxialBundle { rings, fill })
+    }
+
+    /// Mean of y^2, y m and m^2 over the pupil area.
+    fn moments(&self) -> (f64, f64, f64) {
+        let total: f64 = self.rings.iter().map(|r| r.0).sum();
+        let mut m = (0.0, 0.0, 0.0);
+        for &(w, y, s) in &self.rings {
+            m.0 += w * y * y;
+            m.1 += w * y * s;
+            m.2 += w * s * s;
+        }
+        (m.0 / total, m.1 / total, m.2 / total)
+    }
+
+    /// RMS spot radius (about the axis, which is the centroid by symmetry)
+    /// on a plane `t` mm behind the reference film.
+    fn rms_at(&self, t: f64) -> f64 {
+        let (yy, ym, mm) = self.moments();
+        (yy + 2.0 * t * ym + t * t * mm).max(0.0).sqrt()
+    }
+
+    /// The shift of least RMS radius (closed form: the RMS^2 is quadratic in
+    /// the shift) and that radius.
+    fn least_rms_shift(&self) -> (f64, f64) {
+        let (_, ym, mm) = self.moments();
+        let t = if mm > 0.0 { -ym / mm } else { 0.0 };
+        (t, self.rms_at(t))
+    }
+}

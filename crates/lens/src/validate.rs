@@ -1,0 +1,261 @@
+//! Checks a prescription as written and reports every finding, not the first.
+
+use crate::spec::PrescriptionSpec;
+use crate::surface::sag;
+use std::fmt;
+
+/// How serious a finding is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// The prescription can be used, but something is unusual.
+    Warning,
+    /// The prescription cannot be used until this is changed.
+    Error,
+}
+
+/// One problem found in a prescription.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct Finding {
+    /// Error or warning.
+    pub severity: Severity,
+    /// Surface number, 1-based as optical designers count; `None` for the
+    /// prescription as a whole.
+    pub surface: Option<usize>,
+    /// The field concerned (`"radius"`, `"thickness"`, ...), if one.
+    pub field: Option<&'static str>,
+    /// What is wrong and what to change.
+    pub message: String,
+}
+
+impl fmt::Display for Finding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let level = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        match self.surface {
+            Some(s) => write!(f, "{level}: surface {s}: {}", self.message),
+            None => write!(f, "{level}: {}", self.message),
+        }
+    }
+}
+
+/// Whether any finding is an error.
+pub fn has_errors(findings: &[Finding]) -> bool {
+    findings.iter().any(|f| f.severity == Severity::Error)
+}
+
+struct Findings(Vec<Finding>);
+
+impl Findings {
+    fn push(&mut self, severity: Severity, surface: Option<usize>, field: Option<&'static str>, message: String) {
+        self.0.push(Finding { severity, surface, field, message });
+    }
+    fn error(&mut self, surface: usize, field: &'static str, message: String) {
+        self.push(Severity::Error, Some(surface), Some(field), message);
+    }
+}
+
+/// Number of heights sampled across the common aperture when looking for
+/// surfaces that cross (negative edge thickness).
+const EDGE_SAMPLES: usize = 256;
+
+/// Validates a prescription as written. Returns every finding, errors and
+/// warnings, in surface order; an empty list means the prescription is clean.
+///
+/// Errors: units other than mm; no surfaces; non-finite numbers; radius 0;
+/// thickness < 0; semi-diameter <= 0 or larger than |radius|; ior < 1; no stop
+/// or several stops; a stop without a semi-diameter; consecutive surfaces that
+/// cross inside their common aperture; last thickness <= 0.
+/// Warnings: surfaces without a semi-diameter (they do not clip rays).
+///
+/// ```
+/// use lens::{PrescriptionSpec, validate::validate};
+/// let spec = PrescriptionSpec::from_json_str(r#"{"surfaces": [
+///   {"radius": 12, "thickness": 2, "ior": 1.5, "semi_diameter": 14, "stop": true},
+///   {"thickness": 20}]}"#, "<doc>").unwrap();
+/// let findings = validate(&spec);
+/// assert!(findings[0].to_string().contains("surface 1: semi_diameter 14 mm exceeds |radius| 12 mm"));
+/// ```
+pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
+    let mut out = Findings(Vec::new());
+    if let Some(units) = &spec.units {
+        if units != "mm" {
+            out.push(
+                Severity::Error,
+                None,
+                Some("units"),
+                format!("units \"{units}\" are not supported: write lengths in millimetres and set \"units\": \"mm\""),
+            );
+        }
+    }
+    if spec.surfaces.is_empty() {
+        out.push(Severity::Error, None, Some("surfaces"), "no surfaces: list at least one surface".into());
+        return out.0;
+    }
+    for (i, s) in spec.surfaces.iter().enumerate() {
+        check_surface(&mut out, i + 1, s);
+    }
+    let stops: Vec<usize> = spec.surfaces.iter().enumerate().filter(|(_, s)| s.stop).map(|(i, _)| i + 1).collect();
+    match stops.len() {
+        0 => out.push(
+            Severity::Error,
+            None,
+            Some("stop"),
+            "no aperture stop: mark exactly one surface with \"stop\": true".into(),
+        ),
+        1 => {
+            let s = &spec.surfaces[stops[0] - 1];
+            if s.semi_diameter.is_none() {
+                out.error(
+                    stops[0],
+                    "semi_diameter",
+                    "the aperture stop has no semi_diameter: give the stop's clear radius in mm".into(),
+                );
+            }
+        }
+        _ => out.push(
+            Severity::Error,
+            None,
+            Some("stop"),
+            format!(
+                "{} surfaces are marked as the stop (surfaces {}): keep \"stop\": true on exactly one",
+                stops.len(),
+                stops.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")
+            ),
+        ),
+    }
+    for i in 0..spec.surfaces.len().saturating_sub(1) {
+        check_edge(&mut out, spec, i);
+    }
+    if let Some(last) = spec.surfaces.last() {
+        if last.thickness.is_finite() && last.thickness <= 0.0 {
+            out.error(
+                spec.surfaces.len(),
+                "thickness",
+                format!(
+                    "the last thickness is the distance to the film and must be > 0 mm (got {} mm)",
+                    last.thickness
+                ),
+            );
+        }
+    }
+    out.0.sort_by_key(|f| f.surface.unwrap_or(0));
+    out.0
+}
+
+fn check_surface(out: &mut Findings, n: usize, s: &crate::spec::SurfaceSpec) {
+    if let Some(r) = s.radius {
+        if !r.is_finite() {
+            out.error(
+                n,
+                "radius",
+                format!("radius {r} is not a finite number: give a radius in mm or omit it for a plane"),
+            );
+        } else if r == 0.0 {
+            out.error(n, "radius", "radius 0 is not a surface: omit \"radius\" (or use null) for a plane".into());
+        }
+    }
+    if !s.thickness.is_finite() {
+        out.error(n, "thickness", format!("thickness {} is not a finite number of mm", s.thickness));
+    } else if s.thickness < 0.0 {
+        out.error(
+            n,
+            "thickness",
+            format!("thickness {} mm is negative: give the axial distance to the next surface (>= 0)", s.thickness),
+        );
+    }
+    if let Some(ior) = s.ior {
+        if !ior.is_finite() || ior < 1.0 {
+            out.error(n, "ior", format!("ior {ior} is not a refractive index >= 1 (1.0 is air; omit it for air)"));
+        }
+    }
+    match s.semi_diameter {
+        None if !s.stop => out.push(
+            Severity::Warning,
+            Some(n),
+            Some("semi_diameter"),
+            "no semi_diameter: this surface does not clip rays; give its clear radius in mm".into(),
+        ),
+        None => {}
+        Some(sd) if !sd.is_finite() || sd <= 0.0 => {
+            out.error(n, "semi_diameter", format!("semi_diameter {sd} mm must be a positive number of mm"))
+        }
+        Some(sd) => {
+            if let Some(r) = s.radius {
+                if r.is_finite() && r != 0.0 && sd > r.abs() {
+                    out.error(
+                        n,
+                        "semi_diameter",
+                        format!(
+                            "semi_diameter {sd} mm exceeds |radius| {} mm: the sphere is smaller than the aperture; reduce semi_diameter to at most {} mm",
+                            r.abs(),
+                            r.abs()
+                        ),
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// Checks that surfaces i and i+1 (0-based) do not cross inside their common
+/// clear aperture: edge thickness t + sag(i+1, h) - sag(i, h) >= 0.
+fn check_edge(out: &mut Findings, spec: &PrescriptionSpec, i: usize) {
+    let a = &spec.surfaces[i];
+    let b = &spec.surfaces[i + 1];
+    let curvature = |s: &crate::spec::SurfaceSpec| match s.radius {
+        Some(r) if r.is_finite() && r != 0.0 => Some(1.0 / r),
+        Some(_) => None,
+        None => Some(0.0),
+    };
+    let (Some(ca), Some(cb)) = (curvature(a), curvature(b)) else { return };
+    let ok = |v: Option<f64>| v.filter(|x| x.is_finite() && *x > 0.0);
+    let h_max = match (ok(a.semi_diameter), ok(b.semi_diameter)) {
+        (Some(x), Some(y)) => x.min(y),
+        (Some(x), None) | (None, Some(x)) => x,
+        (None, None) => return,
+    };
+    // Stay on both spheres (a semi-diameter beyond |R| is reported separately).
+    let mut h_max = h_max;
+    for c in [ca, cb] {
+        if c != 0.0 {
+            h_max = h_max.min(1.0 / c.abs());
+        }
+    }
+    if !a.thickness.is_finite() || a.thickness < 0.0 {
+        return;
+    }
+    let mut worst = (f64::INFINITY, 0.0);
+    for k in 0..=EDGE_SAMPLES {
+        let h = h_max * k as f64 / EDGE_SAMPLES as f64;
+        if let (Some(sa), Some(sb)) = (sag(ca, h), sag(cb, h)) {
+            let edge = a.thickness + sb - sa;
+            if edge < worst.0 {
+                worst = (edge, h);
+            }
+        }
+    }
+    // Tolerance for rounding in the sags of surfaces that touch at the rim.
+    let tol = 1e-9 * (1.0 + a.thickness.abs() + h_max);
+    if worst.0 < -tol {
+        let medium = match a.ior {
+            Some(n) if n != 1.0 => "glass",
+            _ => "air",
+        };
+        out.error(
+            i + 1,
+            "thickness",
+            format!(
+                "surfaces {} and {} cross inside their common aperture: the {medium} between them is {:.6} mm thick at height {:.4} mm; increase thickness of surface {} by at least {:.6} mm or reduce the semi_diameters",
+                i + 1,
+                i + 2,
+                worst.0,
+                worst.1,
+                i + 1,
+                -worst.0
+            ),
+        );
+    }
+}

@@ -1,0 +1,1 @@
+//! Test-only package: the workspace-level tests live in `tests/`.

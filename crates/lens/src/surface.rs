@@ -39,10 +39,11 @@ impl Surface {
 /// `None` where `|c h| > 1`. Exact for planes (`c = 0` gives 0).
 pub fn sag(c: f64, h: f64) -> Option<f64> {
     let ch2 = c * c * h * h;
-    if ch2.is_nan() || ch2 > 1.0 {
+    // A rim exactly at |R| (a hemisphere) may round to just above 1.
+    if ch2.is_nan() || ch2 > 1.0 + 4.0 * f64::EPSILON {
         return None;
     }
-    Some(c * h * h / (1.0 + (1.0 - ch2).sqrt()))
+    Some(c * h * h / (1.0 + (1.0 - ch2).max(0.0).sqrt()))
 }
 
 #[cfg(test)]

@@ -1,0 +1,121 @@
+//! The `lens` command end to end: JSON keys are a public interface.
+
+use std::process::Command;
+
+fn lens(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_lens"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into(),
+        String::from_utf8_lossy(&out.stderr).into(),
+    )
+}
+
+fn json(s: &str) -> serde_json::Value {
+    serde_json::from_str(s.trim()).unwrap_or_else(|e| panic!("{e}: {s}"))
+}
+
+#[test]
+fn info_json_has_the_contract_keys() {
+    let (code, out, err) = lens(&["info", "lens-data/double-gauss-50mm.json", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    for k in [
+        "efl",
+        "bfl",
+        "ffd",
+        "front_principal_plane",
+        "back_principal_plane",
+        "f_number",
+        "working_f_number",
+        "image_distance",
+        "magnification",
+        "total_track",
+    ] {
+        assert!(v[k].is_f64(), "{k} missing in {v}");
+    }
+    for k in ["entrance_pupil", "exit_pupil"] {
+        assert!(v[k]["z"].is_f64() && v[k]["diameter"].is_f64(), "{k} in {v}");
+    }
+    assert!((v["efl"].as_f64().unwrap() - 50.358).abs() < 1e-3);
+    assert_eq!(v["image_distance"], v["bfl"]);
+    assert_eq!(v["magnification"].as_f64(), Some(0.0));
+}
+
+#[test]
+fn info_with_a_finite_object_and_f_number() {
+    let (code, out, err) =
+        lens(&["info", "lens-data/double-gauss-50mm.json", "--object-distance", "2000", "--f-number", "8", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert!((v["f_number"].as_f64().unwrap() - 8.0).abs() < 1e-12);
+    let m = v["magnification"].as_f64().unwrap();
+    assert!(m < 0.0 && m > -0.05, "{m}");
+    assert!(v["working_f_number"].as_f64().unwrap() > 8.0);
+    assert!(v["image_distance"].as_f64().unwrap() > v["bfl"].as_f64().unwrap());
+    let (code, out, _) = lens(&["info", "lens-data/cooke-triplet.json"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("effective focal length") && out.contains("101.18"), "{out}");
+}
+
+#[test]
+fn focus_prints_paraxial_and_real_film_distances() {
+    let (code, out, err) = lens(&["focus", "lens-data/double-gauss-50mm.json", "--object-distance", "2000", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    let film = v["film_distance"].as_f64().unwrap();
+    let best = v["best_focus_film_distance"].as_f64().unwrap();
+    assert!(film > 36.1 && (best - film).abs() < 0.5, "{v}");
+    // at the front focal plane: a clear error, exit 1, no NaN
+    let (code, out, err) = lens(&["focus", "lens-data/double-gauss-50mm.json", "--object-distance", "27.1224456211"]);
+    assert_eq!(code, 1, "{out}");
+    assert!(err.contains("front focal plane") || err.contains("no real image"), "{err}");
+    let (code, _, err) = lens(&["focus", "lens-data/double-gauss-50mm.json", "--object-distance", "-5"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("object_distance"), "{err}");
+}
+
+#[test]
+fn validate_reports_every_finding_and_exits_1_on_errors() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.json");
+    std::fs::write(
+        &bad,
+        r#"{"surfaces": [{"radius": 0, "thickness": 2, "semi_diameter": 5},
+                          {"radius": 10, "thickness": -1, "semi_diameter": 12}]}"#,
+    )
+    .unwrap();
+    let (code, out, _) = lens(&["validate", "lens-data/cooke-triplet.json", bad.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(out.contains("cooke-triplet.json: valid"), "{out}");
+    for needle in
+        ["surface 1: radius 0", "surface 2: thickness -1", "surface 2: semi_diameter 12 mm exceeds", "no aperture stop"]
+    {
+        assert!(out.contains(needle), "{needle} in {out}");
+    }
+    let malformed = dir.join("malformed.json");
+    std::fs::write(&malformed, "{\"surfaces\": [\n  {\"thickness\": }\n]}").unwrap();
+    let (code, out, _) = lens(&["validate", malformed.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(out.contains("line 2, column"), "{out}");
+    let (code, out, _) = lens(&["validate", "lens-data/double-gauss-50mm.json", "--json"]);
+    assert_eq!(code, 0);
+    assert_eq!(json(&out)["valid"], true);
+    let (code, _, err) = lens(&["info", "no/such/file.json"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("no/such/file.json"), "{err}");
+}
+
+#[test]
+fn bench_prints_rates() {
+    let (code, out, err) = lens(&["bench", "lens-data/double-gauss-50mm.json", "--rays", "20000", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert!(v["rays_per_second"].as_f64().unwrap() > 0.0);
+    assert!(v["ray_surface_per_second"].as_f64().unwrap() > v["rays_per_second"].as_f64().unwrap());
+}

@@ -1,0 +1,50 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use lens::{Prescription, PrescriptionSpec, SurfaceSpec};
+
+pub fn surf(radius: Option<f64>, thickness: f64, ior: Option<f64>, sd: f64, stop: bool) -> SurfaceSpec {
+    SurfaceSpec { radius, thickness, ior, semi_diameter: Some(sd), stop }
+}
+
+/// A singlet: radii r1, r2 (None = plane), centre thickness t, index n,
+/// stop on the first surface, film `film` mm behind. The semi-diameter is
+/// `sd`, or less where the lens would be thinner than zero at its rim.
+pub fn singlet(r1: Option<f64>, r2: Option<f64>, t: f64, n: f64, sd: f64, film: f64) -> Prescription {
+    let c = |r: Option<f64>| r.map_or(0.0, |r| 1.0 / r);
+    let edge = |h: f64| {
+        let s1 = lens::surface::sag(c(r1), h).unwrap_or(f64::NAN);
+        let s2 = lens::surface::sag(c(r2), h).unwrap_or(f64::NAN);
+        t + s2 - s1
+    };
+    let mut sd = sd;
+    while edge(sd).is_nan() || edge(sd) < 0.0 {
+        sd *= 0.9;
+    }
+    let spec = PrescriptionSpec {
+        name: None,
+        source: None,
+        units: None,
+        surfaces: vec![surf(r1, t, Some(n), sd, true), surf(r2, film, None, sd, false)],
+    };
+    Prescription::from_spec(&spec).expect("valid singlet")
+}
+
+pub fn data_dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data")
+}
+
+pub fn shipped_lenses() -> Vec<(String, Prescription)> {
+    let mut v: Vec<_> = std::fs::read_dir(data_dir())
+        .unwrap()
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), Prescription::load(&p).unwrap()))
+        .collect();
+    v.sort_by(|a, b| a.0.cmp(&b.0));
+    v
+}
+
+pub fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}

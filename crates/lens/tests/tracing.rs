@@ -1,0 +1,128 @@
+//! Real-ray tracing: Snell's invariants, reversibility, agreement with the
+//! paraxial focus near the axis, and the batch path equal to the one-ray path.
+
+mod common;
+use common::*;
+use lens::paraxial::FirstOrder;
+use lens::{DVec3, Outcome, Ray, RayBatch, Tracer};
+use proptest::prelude::*;
+
+fn unit_dir() -> impl Strategy<Value = DVec3> {
+    (-0.6f64..0.6, -0.6f64..0.6).prop_map(|(x, y)| DVec3::new(x, y, 1.0).normalize())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(512))]
+
+    /// Vector Snell: unit length, n sin(theta) conserved, and the normal,
+    /// incident and refracted directions coplanar.
+    #[test]
+    fn snell_invariants(d in unit_dir(), nrm in unit_dir(), n1 in 1.0f64..2.5, n2 in 1.0f64..2.5) {
+        let Some(out) = lens::refract::refract(d, nrm, n1, n2) else {
+            // TIR only when going to a lower index beyond the critical angle
+            let sin_i = d.cross(nrm).length();
+            prop_assert!(n1 > n2 && n1 * sin_i > n2 * (1.0 - 1e-12));
+            return Ok(());
+        };
+        prop_assert!((out.length() - 1.0).abs() < 1e-14);
+        let sin_i = d.cross(nrm).length();
+        let sin_t = out.cross(nrm).length();
+        prop_assert!((n1 * sin_i - n2 * sin_t).abs() < 1e-13);
+        prop_assert!(nrm.dot(d.cross(out)).abs() < 1e-13);
+        // no reflection: the refracted ray continues on the same side
+        prop_assert!(out.dot(nrm) * d.dot(nrm) >= 0.0);
+    }
+
+    /// Trace forward through a random singlet, then back from the film
+    /// along the reversed ray: the ray returns to its start line.
+    #[test]
+    fn reversibility(r1 in 30.0f64..200.0, r2 in -200.0f64..-30.0, t in 1.0f64..10.0, n in 1.4f64..1.9,
+                     y in -5.0f64..5.0, x in -5.0f64..5.0, angle in -0.15f64..0.15) {
+        let p = singlet(Some(r1), Some(r2), t, n, 10.0, 80.0);
+        let start = Ray::new(DVec3::new(x, y, -20.0), DVec3::new(0.1 * angle, angle, 1.0)).unwrap();
+        let Outcome::Reached { ray: end, opl } = Tracer::forward(&p).trace(start) else { return Ok(()) };
+        let back = Ray { origin: end.origin, direction: -end.direction };
+        let Outcome::Reached { ray: front, opl: opl_back } = Tracer::reverse(&p).trace(back) else {
+            return Err(TestCaseError::fail("reverse ray did not come back"));
+        };
+        // the returning ray runs back along the starting line
+        prop_assert!((front.direction + start.direction).length() < 1e-12);
+        let s = (front.origin.z - start.origin.z) / start.direction.z;
+        let on_line = start.at(s);
+        prop_assert!((front.origin - on_line).length() < 1e-9, "{:?} vs {:?}", front.origin, on_line);
+        // optical path from the first surface to the film is the same both ways
+        let opl_to_first = s; // in air, index 1
+        prop_assert!((opl - opl_to_first - opl_back).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn near_axis_real_rays_reproduce_paraxial_focus_on_every_shipped_lens() {
+    for (name, p) in shipped_lenses() {
+        let f = FirstOrder::of(&p).unwrap();
+        let z_focus = p.last_vertex_z() + f.bfl;
+        let h = 1e-4 * f.entrance_pupil.diameter / 2.0;
+        let ray = Ray::new(DVec3::new(0.0, h, f.entrance_pupil.z), DVec3::Z).unwrap();
+        let end = Tracer::forward(&p).trace(ray).reached().unwrap_or_else(|| panic!("{name}: blocked"));
+        // where the real ray crosses the axis
+        let z_cross = end.origin.z - end.origin.y * end.direction.z / end.direction.y;
+        let err = (z_cross - z_focus).abs() / f.efl.abs();
+        assert!(err < 1e-7, "{name}: real focus {z_cross} vs paraxial {z_focus} ({err:e} of the EFL)");
+    }
+}
+
+#[test]
+fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
+    for (name, p) in shipped_lenses() {
+        let w = lens::bench::Workload::new(&p, 3000).unwrap();
+        let mut soa = w.rays.clone();
+        w.tracer.trace_soa(&mut soa);
+        let rays: Vec<Ray> = (0..w.rays.len())
+            .map(|i| Ray {
+                origin: DVec3::new(w.rays.x[i], w.rays.y[i], w.rays.z[i]),
+                direction: DVec3::new(w.rays.dx[i], w.rays.dy[i], w.rays.dz[i]),
+            })
+            .collect();
+        let mut out = vec![Outcome::default(); rays.len()];
+        w.tracer.trace_batch(&rays, &mut out);
+        let reverse = Tracer::reverse(&p);
+        let mut kinds = [0usize; 4];
+        for (i, r) in rays.iter().enumerate() {
+            let one = w.tracer.trace(*r);
+            let same = |a: &Outcome, b: &Outcome| {
+                std::mem::discriminant(a) == std::mem::discriminant(b)
+                    && a.ray().origin.to_array().map(f64::to_bits) == b.ray().origin.to_array().map(f64::to_bits)
+                    && a.ray().direction.to_array().map(f64::to_bits) == b.ray().direction.to_array().map(f64::to_bits)
+                    && a.opl().to_bits() == b.opl().to_bits()
+            };
+            assert!(same(&one, &w.tracer.outcome_of(&soa, i)), "{name} ray {i}: soa {:?} vs {:?}", soa.status[i], one);
+            assert!(same(&one, &out[i]), "{name} ray {i}: batch {:?} vs {:?}", out[i], one);
+            kinds[match one {
+                Outcome::Reached { .. } => 0,
+                Outcome::Blocked { .. } => 1,
+                Outcome::Missed { .. } => 2,
+                Outcome::TotalInternalReflection { .. } => 3,
+            }] += 1;
+            // and the reverse tracer agrees with itself too
+            let back = Ray { origin: one.ray().origin, direction: -one.ray().direction };
+            let mut b = RayBatch::default();
+            b.push(back);
+            reverse.trace_soa(&mut b);
+            assert!(same(&reverse.trace(back), &reverse.outcome_of(&b, 0)));
+        }
+        assert!(kinds[0] > 0, "{name}: no ray reached the film");
+    }
+}
+
+#[test]
+fn blocked_rays_carry_the_surface_and_hit_point() {
+    let p = singlet(Some(50.0), Some(-50.0), 5.0, 1.5, 10.0, 60.0);
+    let t = Tracer::forward(&p);
+    let o = t.trace(Ray::new(DVec3::new(0.0, 11.0, -5.0), DVec3::Z).unwrap());
+    let Outcome::Blocked { surface, ray, .. } = o else { panic!("{o:?}") };
+    assert_eq!(surface, 0);
+    assert!((ray.origin.y - 11.0).abs() < 1e-12);
+    let sag = lens::surface::sag(1.0 / 50.0, 11.0).unwrap();
+    assert!((ray.origin.z - sag).abs() < 1e-12);
+    assert_eq!(ray.direction, DVec3::Z);
+}

@@ -1,6 +1,8 @@
-//! `lens focus`: the film distance that focuses an object.
+//! `lens focus`: the film distance that focuses an object, or the object
+//! in focus for a film distance.
 
 use crate::{load, object_distance, print_json, CmdResult};
+use lens::paraxial::ObjectDistance;
 use serde_json::json;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -10,8 +12,12 @@ pub struct Args {
     /// Prescription file (.json or pbrt .dat).
     file: PathBuf,
     /// Object distance in mm in front of the first vertex (`inf` for infinity).
-    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
-    object_distance: f64,
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, required_unless_present = "film_distance")]
+    object_distance: Option<f64>,
+    /// The inverse: which object is in focus on a film this many mm behind
+    /// the last vertex.
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, conflicts_with = "object_distance")]
+    film_distance: Option<f64>,
     /// Resize the stop to this f-number first.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     f_number: Option<f64>,
@@ -22,11 +28,26 @@ pub struct Args {
 
 pub fn run(a: Args) -> CmdResult {
     let p = load(&a.file, a.f_number)?;
-    let object = object_distance(Some(a.object_distance))?;
+    if let Some(film) = a.film_distance {
+        let d = match lens::focus::object_distance_in_focus(&p, film)? {
+            ObjectDistance::Infinity => None,
+            ObjectDistance::Finite(d) => Some(d),
+        };
+        if a.json {
+            print_json(&json!({"film_distance": film, "object_distance": d}));
+        } else {
+            match d {
+                Some(d) => println!("a film {film} mm behind the last vertex is in focus for an object {d:.6} mm in front of the first vertex"),
+                None => println!("a film {film} mm behind the last vertex is in focus at infinity"),
+            }
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let object = object_distance(a.object_distance)?;
     let f = lens::focus::focus(&p, object)?;
     if a.json {
         print_json(&json!({
-            "object_distance": a.object_distance,
+            "object_distance": a.object_distance.filter(|d| d.is_finite()),
             "film_distance": f.film_distance,
             "best_focus_film_distance": f.best_focus_film_distance,
             "rms_radius_at_paraxial_focus": f.rms_radius_at_paraxial_focus,
@@ -35,7 +56,10 @@ pub fn run(a: Args) -> CmdResult {
         }));
         return Ok(ExitCode::SUCCESS);
     }
-    println!("object distance        {} mm in front of the first vertex", a.object_distance);
+    match object {
+        ObjectDistance::Infinity => println!("object distance        infinity"),
+        ObjectDistance::Finite(d) => println!("object distance        {d} mm in front of the first vertex"),
+    }
     println!("film distance          {:.9} mm behind the last vertex (paraxial)", f.film_distance);
     println!(
         "best focus (real rays) {:.9} mm ({:+.6} mm from paraxial)",

@@ -70,6 +70,11 @@ fn focus_prints_paraxial_and_real_film_distances() {
     let film = v["film_distance"].as_f64().unwrap();
     let best = v["best_focus_film_distance"].as_f64().unwrap();
     assert!(film > 36.1 && (best - film).abs() < 0.5, "{v}");
+    // the inverse brings back the object distance
+    let (code, out, err) =
+        lens(&["focus", "lens-data/double-gauss-50mm.json", "--film-distance", &format!("{film:.12}"), "--json"]);
+    assert_eq!(code, 0, "{err}");
+    assert!((json(&out)["object_distance"].as_f64().unwrap() - 2000.0).abs() < 1e-6, "{out}");
     // at the front focal plane: a clear error, exit 1, no NaN
     let (code, out, err) = lens(&["focus", "lens-data/double-gauss-50mm.json", "--object-distance", "27.1224456211"]);
     assert_eq!(code, 1, "{out}");

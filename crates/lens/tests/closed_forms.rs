@@ -92,3 +92,32 @@ fn cooke_triplet_matches_smith_published_values() {
     assert!((f.bfl - 77.405).abs() < 5e-4, "{}", f.bfl);
     assert!((f.f_number - 1.0 / (2.0 * 0.1443)).abs() < 2e-3, "{}", f.f_number);
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+
+    /// Focus and its inverse agree, and the thick-lens model gives the same
+    /// image as the full paraxial trace.
+    #[test]
+    fn focus_inverse_and_thick_lens_model_round_trip(d in 300.0f64..1e6) {
+        for name in ["double-gauss-50mm.json", "cooke-triplet.json", "telephoto-250mm.json", "fisheye-10mm.json"] {
+            let p = lens::Prescription::load(data_dir().join(name)).unwrap();
+            let film = lens::focus::film_distance(&p, ObjectDistance::Finite(d)).unwrap();
+            let back = lens::focus::object_distance_in_focus(&p, film).unwrap();
+            let ObjectDistance::Finite(d2) = back else { return Err(TestCaseError::fail("infinite")) };
+            prop_assert!(rel(d2, d) < 1e-9, "{name}: {d2} vs {d}");
+            let thick = lens::paraxial::ThickLens::of(&p).unwrap();
+            let z = thick.image_z(-d).unwrap();
+            prop_assert!((z - (p.last_vertex_z() + film)).abs() < 1e-9 * z.abs().max(1.0), "{name}");
+        }
+    }
+}
+
+#[test]
+fn film_at_the_rear_focal_plane_is_in_focus_at_infinity() {
+    let p = lens::Prescription::load(data_dir().join("double-gauss-50mm.json")).unwrap();
+    let f = FirstOrder::of(&p).unwrap();
+    assert_eq!(lens::focus::object_distance_in_focus(&p, f.bfl).unwrap(), ObjectDistance::Infinity);
+    let e = lens::focus::object_distance_in_focus(&p, f.bfl - 1.0).unwrap_err();
+    assert!(matches!(e, lens::OpticsError::NoRealObject { .. }), "{e:?}");
+}

@@ -2,10 +2,16 @@
 //! library, prints. Exit codes: 0 success, 1 a finding or computation error,
 //! 2 bad usage.
 
+mod analysis_args;
 mod bench;
+mod coc;
 mod convert;
+mod fan;
+mod field;
 mod focus;
 mod info;
+mod layout;
+mod spot;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -28,6 +34,16 @@ enum Command {
     Focus(focus::Args),
     /// Convert a prescription (e.g. a pbrt .dat file) to the JSON format.
     Convert(convert::Args),
+    /// Tangential and sagittal ray fans at a field.
+    Fan(fan::Args),
+    /// Spot diagram statistics at a field.
+    Spot(spot::Args),
+    /// Real circles of confusion beside the thin-lens formula.
+    Coc(coc::Args),
+    /// Distortion, field curvature, spherical aberration, vignetting.
+    Field(field::Args),
+    /// Draw the lens cross-section with ray bundles.
+    Layout(layout::Args),
     /// Time the batch ray tracer on one core.
     Bench(bench::Args),
 }
@@ -39,6 +55,11 @@ fn main() -> ExitCode {
         Command::Validate(a) => validate::run(a),
         Command::Focus(a) => focus::run(a),
         Command::Convert(a) => convert::run(a),
+        Command::Fan(a) => fan::run(a),
+        Command::Spot(a) => spot::run(a),
+        Command::Coc(a) => coc::run(a),
+        Command::Field(a) => field::run(a),
+        Command::Layout(a) => layout::run(a),
         Command::Bench(a) => bench::run(a),
     };
     match result {

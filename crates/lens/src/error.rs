@@ -101,6 +101,26 @@ pub enum OpticsError {
         /// `"entrance"` or `"exit"`.
         which: &'static str,
     },
+    /// Real-ray aiming did not converge on the requested stop point.
+    #[error("real aiming did not converge for pupil point ({px}, {py}) at {field}: {why}; try --aim paraxial or a smaller field")]
+    AimingFailed {
+        /// Normalised pupil x.
+        px: f64,
+        /// Normalised pupil y.
+        py: f64,
+        /// The field, in words.
+        field: String,
+        /// What went wrong.
+        why: String,
+    },
+    /// The chief ray of a field does not reach the image plane.
+    #[error("the chief ray at {field} does not reach the image: {why}")]
+    ChiefRayLost {
+        /// The field, in words.
+        field: String,
+        /// Its outcome, in words.
+        why: String,
+    },
     /// No real ray of the on-axis bundle reaches the film.
     #[error("no real ray of the on-axis bundle reaches the film: {why}")]
     NoRealRays {

@@ -81,16 +81,24 @@ pub fn focus(p: &Prescription, object: ObjectDistance) -> Result<Focus, OpticsEr
     })
 }
 
+/// Meridional rays across the pupil radius used for the geometric (largest)
+/// blur radius of the on-axis bundle.
+const GEO_SAMPLES: usize = 512;
+
 /// The real on-axis bundle sampled on Gauss–Legendre rings of the entrance
 /// pupil, each ring's meridional ray on a reference film plane.
-struct AxialBundle {
+pub(crate) struct AxialBundle {
     /// Per ring: quadrature weight, height on the reference film, slope dy/dz.
     rings: Vec<(f64, f64, f64)>,
-    fill: f64,
+    /// Fraction of the entrance-pupil radius that passes.
+    pub fill: f64,
+    /// Largest |y| on the reference film over a dense meridional fan, mm.
+    pub geo_radius: f64,
 }
 
 impl AxialBundle {
-    fn trace(p: &Prescription, object: ObjectDistance, film: f64) -> Result<Self, OpticsError> {
+    /// Traces the bundle from `object` to a film `film` mm behind the last vertex.
+    pub fn trace(p: &Prescription, object: ObjectDistance, film: f64) -> Result<Self, OpticsError> {
         let first = FirstOrder::of(p)?;
         let tracer = Tracer::forward_to_film(p, film);
         let ep = first.entrance_pupil;
@@ -137,7 +145,13 @@ impl AxialBundle {
             };
             rings.push((*w, r.origin.y, r.direction.y / r.direction.z));
         }
-        Ok(AxialBundle { rings, fill })
+        let mut geo_radius: f64 = 0.0;
+        for k in 0..=GEO_SAMPLES {
+            if let Some(r) = ray_at(fill * k as f64 / GEO_SAMPLES as f64) {
+                geo_radius = geo_radius.max(r.origin.y.abs());
+            }
+        }
+        Ok(AxialBundle { rings, fill, geo_radius })
     }
 
     /// Mean of y^2, y m and m^2 over the pupil area.
@@ -154,7 +168,7 @@ impl AxialBundle {
 
     /// RMS spot radius (about the axis, which is the centroid by symmetry)
     /// on a plane `t` mm behind the reference film.
-    fn rms_at(&self, t: f64) -> f64 {
+    pub fn rms_at(&self, t: f64) -> f64 {
         let (yy, ym, mm) = self.moments();
         (yy + 2.0 * t * ym + t * t * mm).max(0.0).sqrt()
     }

@@ -27,6 +27,7 @@
 //! assert!((f.efl - 51.5 / 0.5168).abs() < 1e-9); // plano-convex: f = R / (n - 1)
 //! ```
 
+pub mod analysis;
 pub mod batch;
 pub mod bench;
 pub mod dat;

@@ -214,6 +214,33 @@ impl Tracer {
         self.outcome(l, self.steps.len() - 1, PASSED)
     }
 
+    /// Traces one ray and also returns the global point where it met each
+    /// surface (and the film), in order, up to where it stopped: the path a
+    /// layout drawing shows. The outcome is that of [`Self::trace`].
+    pub fn trace_path(&self, ray: Ray) -> (Vec<DVec3>, Outcome) {
+        let mut l = Lane {
+            px: ray.origin.x,
+            py: ray.origin.y,
+            pz: ray.origin.z,
+            dx: ray.direction.x,
+            dy: ray.direction.y,
+            dz: ray.direction.z,
+            opl: 0.0,
+        };
+        let mut path = vec![ray.origin];
+        for (k, s) in self.steps.iter().enumerate() {
+            let (next, kind) = if s.refract { step_lane::<true>(s, l) } else { step_lane::<false>(s, l) };
+            l = next;
+            if kind != MISSED {
+                path.push(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
+            }
+            if kind != PASSED {
+                return (path, self.outcome(l, k, kind));
+            }
+        }
+        (path, self.outcome(l, self.steps.len() - 1, PASSED))
+    }
+
     /// Builds the outcome of a ray whose state `l` is in the frame of step `k`.
     pub(crate) fn outcome(&self, l: Lane, k: usize, kind: u64) -> Outcome {
         let z = l.pz + self.steps[k].vertex_z;

@@ -1,0 +1,236 @@
+//! Field curves for an object at infinity: distortion, tangential and
+//! sagittal field curvature, longitudinal spherical aberration, and
+//! vignetting / relative illumination against field.
+
+use super::fan::trace_point;
+use super::launch::{Aim, Field, Launcher};
+use super::pattern::{points, Pattern};
+use crate::error::OpticsError;
+use crate::paraxial::FirstOrder;
+use crate::prescription::Prescription;
+use crate::ray::{Outcome, Ray};
+use crate::trace::Tracer;
+use glam::DVec3;
+use serde::Serialize;
+
+/// Pupil offset of the ray pairs that locate the tangential and sagittal
+/// foci around the chief ray (normalised pupil units).
+const DELTA: f64 = 1e-4;
+/// Width of the square pupil grid used for the vignetting fraction.
+const GRID: usize = 41;
+
+/// Field curves at one field angle.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FieldPoint {
+    /// Field angle, degrees.
+    pub field_deg: f64,
+    /// Real chief-ray height on the paraxial image plane, mm.
+    pub chief_height: f64,
+    /// Paraxial image height EFL tan(theta), mm.
+    pub paraxial_height: f64,
+    /// Distortion 100 (real - paraxial) / paraxial, percent (0 on axis).
+    pub distortion_percent: f64,
+    /// Tangential focus: z distance from the paraxial image plane where
+    /// neighbouring tangential rays cross, mm (+ toward the image).
+    pub tangential_focus: f64,
+    /// Sagittal focus, likewise, mm.
+    pub sagittal_focus: f64,
+    /// Fraction of a square pupil grid that reaches the image (1 = no
+    /// vignetting).
+    pub unvignetted_fraction: f64,
+    /// Image irradiance relative to the axis: unvignetted fraction x
+    /// cos(theta) x f^2 / (dh/dtheta * h / sin(theta)), the cos^4 law
+    /// generalised by the real chief-ray height h(theta).
+    pub relative_illumination: f64,
+}
+
+/// One zone of longitudinal spherical aberration.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SphericalZone {
+    /// Normalised pupil radius.
+    pub pupil: f64,
+    /// Where the zone's ray crosses the axis, mm from the paraxial focus
+    /// (+ toward the image).
+    pub longitudinal: f64,
+}
+
+/// Field curves of a prescription.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FieldCurves {
+    /// Largest field analysed, degrees.
+    pub max_field_deg: f64,
+    /// z of the paraxial image plane, mm from the first vertex.
+    pub image_z: f64,
+    /// Curves against field.
+    pub fields: Vec<FieldPoint>,
+    /// Longitudinal spherical aberration against pupil radius.
+    pub spherical: Vec<SphericalZone>,
+}
+
+/// Computes the field curves at `n` fields from 0 to `max_field_deg`
+/// (default: the largest field whose chief ray reaches the image, found by
+/// search, at most 89 degrees).
+pub fn field_curves(
+    p: &Prescription,
+    max_field_deg: Option<f64>,
+    n: usize,
+    aim: Aim,
+) -> Result<FieldCurves, OpticsError> {
+    let first = FirstOrder::of(p)?;
+    let image_z = p.last_vertex_z() + first.bfl;
+    let tracer = Tracer::forward_to_film(p, first.bfl);
+    let max = match max_field_deg {
+        Some(m) if m.is_finite() && m > 0.0 && m < 90.0 => m,
+        Some(m) => {
+            return Err(OpticsError::BadInput {
+                name: "max field",
+                value: m,
+                expected: "an angle in degrees between 0 and 90",
+            })
+        }
+        None => largest_field(p, &tracer, aim),
+    };
+    let n = n.max(2);
+    let on_axis = vignetting(p, &tracer, 0.0, aim)?;
+    let mut fields = Vec::with_capacity(n);
+    for k in 0..n {
+        let deg = max * k as f64 / (n - 1) as f64;
+        fields.push(field_point(p, &tracer, &first, deg, aim, on_axis)?);
+    }
+    Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, image_z) })
+}
+
+fn chief_height(p: &Prescription, tracer: &Tracer, deg: f64, aim: Aim) -> Result<f64, OpticsError> {
+    let l = Launcher::new(p, Field::Angle(deg), aim)?;
+    trace_point(&l, tracer, 0.0, 0.0)?
+        .map(|h| h[1])
+        .ok_or_else(|| OpticsError::ChiefRayLost { field: Field::Angle(deg).describe(), why: "vignetted".into() })
+}
+
+fn field_point(
+    p: &Prescription,
+    tracer: &Tracer,
+    first: &FirstOrder,
+    deg: f64,
+    aim: Aim,
+    on_axis: f64,
+) -> Result<FieldPoint, OpticsError> {
+    let launcher = Launcher::new(p, Field::Angle(deg), aim)?;
+    let theta = deg.to_radians();
+    let h = chief_height(p, tracer, deg, aim)?;
+    let paraxial = first.efl * theta.tan();
+    let distortion = if deg == 0.0 { 0.0 } else { 100.0 * (h - paraxial) / paraxial };
+    let pair = |a: (f64, f64), b: (f64, f64), tangential: bool| -> Result<f64, OpticsError> {
+        let ra = tracer.trace(launcher.ray(a.0, a.1)?);
+        let rb = tracer.trace(launcher.ray(b.0, b.1)?);
+        match (ra, rb) {
+            (Outcome::Reached { ray: ra, .. }, Outcome::Reached { ray: rb, .. }) => {
+                let (pa, pb, sa, sb) = if tangential {
+                    (ra.origin.y, rb.origin.y, ra.direction.y / ra.direction.z, rb.direction.y / rb.direction.z)
+                } else {
+                    (ra.origin.x, rb.origin.x, ra.direction.x / ra.direction.z, rb.direction.x / rb.direction.z)
+                };
+                Ok(if sa == sb { 0.0 } else { -(pa - pb) / (sa - sb) })
+            }
+            _ => Err(OpticsError::ChiefRayLost {
+                field: Field::Angle(deg).describe(),
+                why: "a ray next to the chief ray is vignetted".into(),
+            }),
+        }
+    };
+    let tangential_focus = pair((0.0, DELTA), (0.0, -DELTA), true)?;
+    let sagittal_focus = pair((DELTA, 0.0), (-DELTA, 0.0), false)?;
+    let fraction = vignetting(p, tracer, deg, aim)?;
+    let relative_illumination = if deg == 0.0 {
+        1.0
+    } else {
+        // dh/dtheta by a central difference of the real chief-ray height
+        let step = (0.01f64).min(deg / 2.0);
+        let hp = chief_height(p, tracer, deg + step, aim).unwrap_or(h);
+        let hm = chief_height(p, tracer, deg - step, aim)?;
+        let dh = (hp - hm) / (2.0 * step.to_radians());
+        let f = first.efl;
+        let ri = (fraction / on_axis) * theta.cos() * f * f / (dh * h / theta.sin());
+        if ri.is_finite() {
+            ri
+        } else {
+            0.0
+        }
+    };
+    Ok(FieldPoint {
+        field_deg: deg,
+        chief_height: h,
+        paraxial_height: paraxial,
+        distortion_percent: distortion,
+        tangential_focus,
+        sagittal_focus,
+        unvignetted_fraction: fraction / on_axis.max(f64::MIN_POSITIVE),
+        relative_illumination,
+    })
+}
+
+/// Fraction of a square pupil grid that reaches the image at `deg`.
+fn vignetting(p: &Prescription, tracer: &Tracer, deg: f64, aim: Aim) -> Result<f64, OpticsError> {
+    let launcher = Launcher::new(p, Field::Angle(deg), aim)?;
+    let pts = points(Pattern::Square, GRID);
+    let mut pass = 0;
+    for &(px, py) in &pts {
+        // a ray that cannot be aimed counts as vignetted
+        if let Ok(r) = launcher.ray(px, py) {
+            if tracer.trace(r).reached().is_some() {
+                pass += 1;
+            }
+        }
+    }
+    Ok(pass as f64 / pts.len() as f64)
+}
+
+/// The largest field (degrees, at most 89) whose chief ray and its four
+/// neighbours (the focus-locating pairs) reach the image.
+fn largest_field(p: &Prescription, tracer: &Tracer, aim: Aim) -> f64 {
+    let ok = |deg: f64| {
+        let Ok(l) = Launcher::new(p, Field::Angle(deg), aim) else { return false };
+        [(0.0, 0.0), (0.0, DELTA), (0.0, -DELTA), (DELTA, 0.0), (-DELTA, 0.0)]
+            .iter()
+            .all(|&(px, py)| matches!(trace_point(&l, tracer, px, py), Ok(Some(_))))
+    };
+    let mut lo = 0.0;
+    let mut hi = 89.0;
+    if ok(hi) {
+        return hi;
+    }
+    // coarse scan from the axis, then bisection at the first loss
+    let mut d = 1.0;
+    while d < 89.0 && ok(d) {
+        lo = d;
+        d += 1.0;
+    }
+    hi = d.min(89.0);
+    for _ in 0..30 {
+        let mid = 0.5 * (lo + hi);
+        if ok(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
+/// Longitudinal spherical aberration of the on-axis bundle at 21 zones.
+fn spherical(tracer: &Tracer, first: &FirstOrder, image_z: f64) -> Vec<SphericalZone> {
+    let r_ep = first.entrance_pupil.diameter / 2.0;
+    let z_ep = first.entrance_pupil.z;
+    let mut zones = vec![SphericalZone { pupil: 0.0, longitudinal: 0.0 }];
+    for k in 1..=20 {
+        let rho = k as f64 / 20.0;
+        let ray = Ray { origin: DVec3::new(0.0, rho * r_ep, z_ep), direction: DVec3::Z };
+        if let Outcome::Reached { ray, .. } = tracer.trace(ray) {
+            if ray.direction.y != 0.0 {
+                let z = ray.origin.z - ray.origin.y * ray.direction.z / ray.direction.y;
+                zones.push(SphericalZone { pupil: rho, longitudinal: z - image_z });
+            }
+        }
+    }
+    zones
+}

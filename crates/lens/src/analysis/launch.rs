@@ -1,0 +1,248 @@
+//! Fields, pupil coordinates and ray aiming: how rays enter the system.
+
+use crate::error::OpticsError;
+use crate::paraxial::{imaging, FirstOrder, ObjectDistance};
+use crate::prescription::Prescription;
+use crate::ray::{Outcome, Ray};
+use crate::trace::Tracer;
+use glam::{DVec2, DVec3};
+
+/// Where the light comes from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Field {
+    /// Object at infinity, light arriving along (0, sin θ, cos θ): the image
+    /// lands near y = +EFL tan θ. Degrees, |θ| < 90.
+    Angle(f64),
+    /// An object point at height `height` mm (+y) on a plane
+    /// `object_distance` mm in front of the first vertex.
+    Height {
+        /// mm in front of the first vertex (> 0).
+        object_distance: f64,
+        /// Object height, mm.
+        height: f64,
+    },
+}
+
+impl Field {
+    /// The object distance this field implies.
+    pub fn object(&self) -> ObjectDistance {
+        match *self {
+            Field::Angle(_) => ObjectDistance::Infinity,
+            Field::Height { object_distance, .. } => ObjectDistance::Finite(object_distance),
+        }
+    }
+
+    /// Human-readable form for messages.
+    pub fn describe(&self) -> String {
+        match *self {
+            Field::Angle(d) => format!("field {d} deg"),
+            Field::Height { object_distance, height } => {
+                format!("object height {height} mm at {object_distance} mm")
+            }
+        }
+    }
+}
+
+/// How a pupil coordinate becomes a ray.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Aim {
+    /// Through (px, py) x the paraxial entrance-pupil radius on the paraxial
+    /// entrance-pupil plane.
+    #[default]
+    Paraxial,
+    /// Solved by Newton iteration so that the real ray meets the stop at
+    /// (px, py) x the stop radius (wide-angle and fisheye lenses).
+    Real,
+}
+
+/// Launches rays of one field into a prescription.
+#[derive(Debug, Clone)]
+pub struct Launcher {
+    field: Field,
+    aim: Aim,
+    first: FirstOrder,
+    to_stop: Tracer,
+    stop_radius: f64,
+    z_start: f64,
+}
+
+/// Newton iterations allowed per aimed ray.
+const NEWTON_STEPS: usize = 60;
+
+impl Launcher {
+    /// Prepares a launcher. Errors for an angle of 90 degrees or more, or a
+    /// non-positive object distance.
+    pub fn new(p: &Prescription, field: Field, aim: Aim) -> Result<Self, OpticsError> {
+        match field {
+            Field::Angle(d) if !(d.is_finite() && d.abs() < 90.0) => {
+                return Err(OpticsError::BadInput {
+                    name: "field angle",
+                    value: d,
+                    expected: "an angle in degrees strictly between -90 and 90",
+                })
+            }
+            Field::Height { object_distance, height } => {
+                ObjectDistance::from_mm(object_distance)?;
+                if !height.is_finite() {
+                    return Err(OpticsError::BadInput {
+                        name: "object height",
+                        value: height,
+                        expected: "a finite height in mm",
+                    });
+                }
+            }
+            _ => {}
+        }
+        let first = FirstOrder::of(p)?;
+        Ok(Launcher {
+            field,
+            aim,
+            first,
+            to_stop: Tracer::to_stop_unclipped(p),
+            stop_radius: p.stop_semi_diameter(),
+            z_start: first.entrance_pupil.z.min(0.0) - 1.0,
+        })
+    }
+
+    /// The field.
+    pub fn field(&self) -> Field {
+        self.field
+    }
+
+    /// First-order data of the prescription.
+    pub fn first_order(&self) -> &FirstOrder {
+        &self.first
+    }
+
+    /// The ray through the entrance-pupil plane at `e` (mm, x and y).
+    fn ray_through(&self, e: DVec2) -> Option<Ray> {
+        let z_ep = self.first.entrance_pupil.z;
+        let target = DVec3::new(e.x, e.y, z_ep);
+        match self.field {
+            Field::Angle(deg) => {
+                let t = deg.to_radians();
+                let d = DVec3::new(0.0, t.sin(), t.cos());
+                Ray::new(target - d * ((z_ep - self.z_start) / d.z), d)
+            }
+            Field::Height { object_distance, height } => {
+                let o = DVec3::new(0.0, height, -object_distance);
+                Ray::new(o, target - o)
+            }
+        }
+    }
+
+    /// The object-space ray for normalised pupil coordinates (px, py).
+    /// Paraxial aiming never fails; real aiming reports non-convergence.
+    pub fn ray(&self, px: f64, py: f64) -> Result<Ray, OpticsError> {
+        let r_ep = self.first.entrance_pupil.diameter / 2.0;
+        let guess = DVec2::new(px, py) * r_ep;
+        let bad = || OpticsError::AimingFailed {
+            px,
+            py,
+            field: self.field.describe(),
+            why: "the ray cannot be formed (non-finite coordinates)".into(),
+        };
+        match self.aim {
+            Aim::Paraxial => self.ray_through(guess).ok_or_else(bad),
+            Aim::Real => {
+                let e = self.aim_real(px, py, guess)?;
+                self.ray_through(e).ok_or_else(bad)
+            }
+        }
+    }
+
+    /// Where the ray through EP point `e` meets the stop (no clipping).
+    fn stop_hit(&self, e: DVec2) -> Option<DVec2> {
+        let r = self.ray_through(e)?;
+        match self.to_stop.trace(r) {
+            Outcome::Reached { ray, .. } => Some(ray.origin.truncate()),
+            _ => None,
+        }
+    }
+
+    /// Newton iteration on the entrance-pupil point so the real ray meets
+    /// the stop at (px, py) x stop radius. Falls back to continuation from
+    /// the pupil centre when the direct start fails.
+    fn aim_real(&self, px: f64, py: f64, guess: DVec2) -> Result<DVec2, OpticsError> {
+        let target = DVec2::new(px, py) * self.stop_radius;
+        if let Ok(e) = self.newton(target, guess) {
+            return Ok(e);
+        }
+        // continuation: from the chief ray outward in steps of the target
+        let mut e = self.newton(DVec2::ZERO, DVec2::ZERO).map_err(|why| self.aim_error(px, py, why))?;
+        let steps = 16;
+        for k in 1..=steps {
+            let t = target * (k as f64 / steps as f64);
+            e = self.newton(t, e).map_err(|why| self.aim_error(px, py, why))?;
+        }
+        Ok(e)
+    }
+
+    fn aim_error(&self, px: f64, py: f64, why: String) -> OpticsError {
+        OpticsError::AimingFailed { px, py, field: self.field.describe(), why }
+    }
+
+    fn newton(&self, target: DVec2, start: DVec2) -> Result<DVec2, String> {
+        let scale = self.stop_radius.max(self.first.entrance_pupil.diameter / 2.0);
+        let tol = 1e-12 * scale.max(1.0);
+        let h = 1e-7 * scale;
+        let mut e = start;
+        let mut f = self.stop_hit(e).ok_or("the starting ray misses a surface before the stop")? - target;
+        for _ in 0..NEWTON_STEPS {
+            if f.length() <= tol {
+                return Ok(e);
+            }
+            let fx = self.stop_hit(e + DVec2::new(h, 0.0)).ok_or("a probe ray misses")? - target;
+            let fy = self.stop_hit(e + DVec2::new(0.0, h)).ok_or("a probe ray misses")? - target;
+            let (j1, j2) = ((fx - f) / h, (fy - f) / h);
+            let det = j1.x * j2.y - j2.x * j1.y;
+            if det == 0.0 || !det.is_finite() {
+                return Err("the stop position does not depend on the aim (singular Jacobian)".into());
+            }
+            // solve J d = -f
+            let d = DVec2::new(-(j2.y * f.x - j2.x * f.y) / det, -(-j1.y * f.x + j1.x * f.y) / det);
+            // damped step: halve until the ray exists and the residual drops
+            let mut step = 1.0;
+            loop {
+                let cand = e + d * step;
+                if let Some(hit) = self.stop_hit(cand) {
+                    let fc = hit - target;
+                    if fc.length() < f.length() || fc.length() <= tol {
+                        e = cand;
+                        f = fc;
+                        break;
+                    }
+                }
+                step *= 0.5;
+                if step < 1e-6 {
+                    return Err(format!("no step reduces the miss of {:.3e} mm at the stop", f.length()));
+                }
+            }
+        }
+        if f.length() <= tol * 1e3 {
+            return Ok(e);
+        }
+        Err(format!("{NEWTON_STEPS} iterations left a miss of {:.3e} mm at the stop", f.length()))
+    }
+
+    /// z (from the first vertex) of the paraxial image plane of this field's
+    /// object.
+    pub fn paraxial_image_z(&self, p: &Prescription) -> Result<f64, OpticsError> {
+        let img = imaging(p, &self.first, self.field.object())?;
+        Ok(p.last_vertex_z() + img.image_distance)
+    }
+}
+
+impl Tracer {
+    /// Object space to the stop surface, with no clear aperture clipping:
+    /// the outcome `Reached` holds the ray at its hit on the stop surface.
+    /// Used to aim real rays at the stop.
+    pub fn to_stop_unclipped(p: &Prescription) -> Tracer {
+        let mut t = Tracer::forward(p);
+        t.steps.truncate(p.stop_index() + 1);
+        for s in &mut t.steps {
+            s.sd2 = f64::INFINITY;
+        }
+        t
+    }
+}

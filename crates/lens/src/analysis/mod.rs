@@ -1,0 +1,20 @@
+//! Analyses an optical engineer expects: ray fans, spot diagrams, circles of
+//! confusion and field curves, all from exact ray traces.
+//!
+//! Rays enter through [`launch::Launcher`]: a field (an angle for an object at
+//! infinity, or an object height at a finite distance) and normalised pupil
+//! coordinates (px, py) on the entrance pupil, aimed paraxially or by real
+//! rays onto the stop. Vignetted rays are counted and left out of statistics.
+
+pub mod coc;
+pub mod curves;
+pub mod fan;
+pub mod launch;
+pub mod pattern;
+pub mod spot;
+
+pub use launch::{Aim, Field, Launcher};
+
+/// Wavelength used for diffraction scales (Airy radius), mm: the helium d
+/// line, 587.56 nm, at which the shipped prescriptions' indices are given.
+pub const WAVELENGTH_MM: f64 = 587.56e-6;

@@ -1,0 +1,45 @@
+//! Pictures of lens analyses: lens layouts, ray fans, spot diagrams,
+//! circle-of-confusion and field curves. Each picture is built as an SVG
+//! document ([`figure`]); [`save`] writes it as SVG or, rasterised with an
+//! embedded font (Ubuntu Light, from `epaint_default_fonts`), as PNG. No
+//! system fonts and no display are needed, so pictures can be made in CI.
+
+pub mod coc;
+pub mod fan;
+pub mod field;
+pub mod figure;
+pub mod layout;
+pub mod raster;
+pub mod spot;
+
+use std::path::Path;
+
+/// Why a picture could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The output extension is neither `.svg` nor `.png`.
+    #[error("{0}: choose an output file ending in .svg or .png")]
+    Extension(String),
+    /// Writing the file failed.
+    #[error("{path}: cannot write: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Rasterising failed.
+    #[error("cannot rasterise the picture: {0}")]
+    Raster(String),
+}
+
+/// Writes an SVG document to `path`: as is for `.svg`, rasterised for `.png`.
+pub fn save(svg: &str, path: &Path) -> Result<(), PlotError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    let bytes = match ext.as_deref() {
+        Some("svg") => svg.as_bytes().to_vec(),
+        Some("png") => raster::svg_to_png(svg)?,
+        _ => return Err(PlotError::Extension(path.display().to_string())),
+    };
+    std::fs::write(path, bytes).map_err(|source| PlotError::Io { path: path.display().to_string(), source })
+}

@@ -38,7 +38,7 @@ pub fn run(a: Args) -> CmdResult {
     let p = load(&a.file, a.f_number)?;
     let fan = ray_fan(&p, Field::Angle(a.field_deg), a.points, a.aim.into(), plane(a.film))?;
     if let Some(out) = &a.plot {
-        plot::save(&plot::fan::fan_chart(&[fan.clone()], p.name()), out)?;
+        plot::save(&plot::fan::fan_chart(std::slice::from_ref(&fan), p.name()), out)?;
     }
     if a.json {
         print_json(&serde_json::to_value(&fan)?);

@@ -57,7 +57,7 @@ pub fn run(a: Args) -> CmdResult {
     };
     let s = spot_diagram(&p, Field::Angle(a.field_deg), pattern, a.n, a.aim.into(), plane(a.film))?;
     if let Some(out) = &a.plot {
-        plot::save(&plot::spot::spot_chart(&[s.clone()], p.name()), out)?;
+        plot::save(&plot::spot::spot_chart(std::slice::from_ref(&s), p.name()), out)?;
     }
     if a.json {
         print_json(&json!({

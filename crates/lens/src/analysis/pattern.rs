@@ -19,7 +19,7 @@ pub enum Pattern {
 /// ```
 /// use lens::analysis::pattern::{points, Pattern};
 /// assert_eq!(points(Pattern::Hexapolar, 2).len(), 1 + 6 + 12);
-/// assert!(points(Pattern::Square, 101).iter().all(|(x, y)| x * x + y * y <= 1.0));
+/// assert!(points(Pattern::Square, 101).iter().all(|(x, y)| x * x + y * y <= 1.0 + 1e-12));
 /// ```
 pub fn points(pattern: Pattern, n: usize) -> Vec<(f64, f64)> {
     match pattern {

@@ -124,3 +124,90 @@ fn bench_prints_rates() {
     assert!(v["rays_per_second"].as_f64().unwrap() > 0.0);
     assert!(v["ray_surface_per_second"].as_f64().unwrap() > v["rays_per_second"].as_f64().unwrap());
 }
+
+#[test]
+fn fan_json_contract() {
+    let (code, out, err) =
+        lens(&["fan", "lens-data/double-gauss-50mm.json", "--field-deg", "10", "--points", "7", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert_eq!(v["field_deg"].as_f64(), Some(10.0));
+    assert!(v["image_z"].as_f64().unwrap() > 68.0);
+    let t = v["tangential"].as_array().unwrap();
+    let s = v["sagittal"].as_array().unwrap();
+    assert_eq!((t.len(), s.len()), (7, 7));
+    for (i, row) in t.iter().enumerate() {
+        assert!((row["py"].as_f64().unwrap() - (-1.0 + i as f64 / 3.0)).abs() < 1e-15);
+        for k in ["x", "y", "ey"] {
+            assert!(row.get(k).is_some(), "{k} in {row}");
+        }
+    }
+    assert_eq!(t[3]["ey"].as_f64(), Some(0.0));
+    assert!(s[3].get("ex").is_some() && s[3].get("px").is_some());
+    // the image lands near +EFL tan(theta)
+    assert!((t[3]["y"].as_f64().unwrap() - 50.358 * 10f64.to_radians().tan()).abs() < 0.2);
+}
+
+#[test]
+fn spot_coc_field_json_contracts() {
+    let (code, out, err) =
+        lens(&["spot", "lens-data/cooke-triplet.json", "--pattern", "square", "--n", "101", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    for k in ["rays", "vignetted", "rms_radius", "rms_radius_chief", "geo_radius"] {
+        assert!(v[k].is_number(), "{k} in {v}");
+    }
+    assert_eq!(v["centroid"].as_array().unwrap().len(), 2);
+    assert!(v["rays"].as_u64().unwrap() + v["vignetted"].as_u64().unwrap() > 7800);
+
+    let (code, out, err) = lens(&[
+        "coc",
+        "lens-data/double-gauss-50mm.json",
+        "--focus-mm",
+        "2000",
+        "--distances",
+        "1000,2000,inf",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    let rows = v["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 3);
+    for r in rows {
+        for k in ["distance", "geo_diameter", "rms_diameter", "thin_lens_diameter"] {
+            assert!(r.get(k).is_some(), "{k} in {r}");
+        }
+    }
+    assert_eq!(rows[0]["distance"].as_f64(), Some(1000.0));
+
+    let (code, out, err) =
+        lens(&["field", "lens-data/cooke-triplet.json", "--max-field-deg", "20", "--fields", "5", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert_eq!(v["fields"].as_array().unwrap().len(), 5);
+    assert!(v["fields"][4]["distortion_percent"].is_f64());
+}
+
+#[test]
+fn pictures_are_written_as_svg_and_png() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-pics-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("layout.svg");
+    let png = dir.join("layout.png");
+    for out in [&svg, &png] {
+        let (code, _, err) =
+            lens(&["layout", "lens-data/double-gauss-50mm.json", "--fields", "0,10", "-o", out.to_str().unwrap()]);
+        assert_eq!(code, 0, "{err}");
+    }
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.starts_with("<svg") && text.contains("<polygon") && text.contains("polyline"));
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    assert!(bytes.len() > 10_000, "{}", bytes.len());
+    let plot = dir.join("spot.png");
+    let (code, _, err) = lens(&["spot", "lens-data/double-gauss-50mm.json", "--plot", plot.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (code, _, err) = lens(&["layout", "lens-data/double-gauss-50mm.json", "-o", "x.gif"]);
+    assert_eq!(code, 1);
+    assert!(err.contains(".svg or .png"), "{err}");
+}

@@ -100,6 +100,24 @@ pub fn field_curves(
     Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, image_z) })
 }
 
+/// Distortion at one field, percent: 100 (h - h_p) / h_p with h the real
+/// chief-ray height on the paraxial image plane and h_p the paraxial image
+/// height (EFL tan(theta) for an angle, m x height for a finite object).
+/// 0 on axis.
+pub fn distortion(p: &Prescription, field: Field, aim: Aim) -> Result<f64, OpticsError> {
+    let launcher = Launcher::new(p, field, aim)?;
+    let image_z = launcher.paraxial_image_z(p)?;
+    let tracer = Tracer::forward_to_film(p, image_z - p.last_vertex_z());
+    let first = launcher.first_order();
+    let paraxial = match field {
+        Field::Angle(deg) => first.efl * deg.to_radians().tan(),
+        Field::Height { height, .. } => crate::paraxial::imaging(p, first, field.object())?.magnification * height,
+    };
+    let h = trace_point(&launcher, &tracer, 0.0, 0.0)?
+        .ok_or_else(|| OpticsError::ChiefRayLost { field: field.describe(), why: "vignetted".into() })?[1];
+    Ok(if paraxial == 0.0 { 0.0 } else { 100.0 * (h - paraxial) / paraxial })
+}
+
 fn chief_height(p: &Prescription, tracer: &Tracer, deg: f64, aim: Aim) -> Result<f64, OpticsError> {
     let l = Launcher::new(p, Field::Angle(deg), aim)?;
     trace_point(&l, tracer, 0.0, 0.0)?

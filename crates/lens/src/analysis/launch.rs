@@ -116,9 +116,14 @@ impl Launcher {
 
     /// The ray through the entrance-pupil plane at `e` (mm, x and y).
     fn ray_through(&self, e: DVec2) -> Option<Ray> {
+        self.ray_through_at(self.field, e)
+    }
+
+    /// The ray of `field` through the entrance-pupil plane at `e`.
+    fn ray_through_at(&self, field: Field, e: DVec2) -> Option<Ray> {
         let z_ep = self.first.entrance_pupil.z;
         let target = DVec3::new(e.x, e.y, z_ep);
-        match self.field {
+        match field {
             Field::Angle(deg) => {
                 let t = deg.to_radians();
                 let d = DVec3::new(0.0, t.sin(), t.cos());
@@ -151,9 +156,10 @@ impl Launcher {
         }
     }
 
-    /// Where the ray through EP point `e` meets the stop (no clipping).
-    fn stop_hit(&self, e: DVec2) -> Option<DVec2> {
-        let r = self.ray_through(e)?;
+    /// Where the ray of `field` through EP point `e` meets the stop (no
+    /// clipping).
+    fn stop_hit(&self, field: Field, e: DVec2) -> Option<DVec2> {
+        let r = self.ray_through_at(field, e)?;
         match self.to_stop.trace(r) {
             Outcome::Reached { ray, .. } => Some(ray.origin.truncate()),
             _ => None,
@@ -161,19 +167,42 @@ impl Launcher {
     }
 
     /// Newton iteration on the entrance-pupil point so the real ray meets
-    /// the stop at (px, py) x stop radius. Falls back to continuation from
-    /// the pupil centre when the direct start fails.
+    /// the stop at (px, py) x stop radius. Starts from the paraxial aim; where
+    /// that ray cannot reach the stop (large fields of wide-angle lenses),
+    /// continues from the real chief ray outward over the pupil, and the
+    /// chief ray itself from the axis outward over the field.
     fn aim_real(&self, px: f64, py: f64, guess: DVec2) -> Result<DVec2, OpticsError> {
         let target = DVec2::new(px, py) * self.stop_radius;
-        if let Ok(e) = self.newton(target, guess) {
+        if let Ok(e) = self.newton(self.field, target, guess) {
             return Ok(e);
         }
-        // continuation: from the chief ray outward in steps of the target
-        let mut e = self.newton(DVec2::ZERO, DVec2::ZERO).map_err(|why| self.aim_error(px, py, why))?;
+        let mut e = self.real_chief().map_err(|why| self.aim_error(px, py, why))?;
+        if let Ok(done) = self.newton(self.field, target, e) {
+            return Ok(done);
+        }
         let steps = 16;
         for k in 1..=steps {
             let t = target * (k as f64 / steps as f64);
-            e = self.newton(t, e).map_err(|why| self.aim_error(px, py, why))?;
+            e = self.newton(self.field, t, e).map_err(|why| self.aim_error(px, py, why))?;
+        }
+        Ok(e)
+    }
+
+    /// The real chief ray's entrance-pupil point, by continuation in field
+    /// from the axis (where the paraxial aim is exact to first order).
+    fn real_chief(&self) -> Result<DVec2, String> {
+        if let Ok(e) = self.newton(self.field, DVec2::ZERO, DVec2::ZERO) {
+            return Ok(e);
+        }
+        let steps = 64;
+        let mut e = DVec2::ZERO;
+        for k in 1..=steps {
+            let s = k as f64 / steps as f64;
+            let field = match self.field {
+                Field::Angle(d) => Field::Angle(d * s),
+                Field::Height { object_distance, height } => Field::Height { object_distance, height: height * s },
+            };
+            e = self.newton(field, DVec2::ZERO, e)?;
         }
         Ok(e)
     }
@@ -182,18 +211,18 @@ impl Launcher {
         OpticsError::AimingFailed { px, py, field: self.field.describe(), why }
     }
 
-    fn newton(&self, target: DVec2, start: DVec2) -> Result<DVec2, String> {
+    fn newton(&self, field: Field, target: DVec2, start: DVec2) -> Result<DVec2, String> {
         let scale = self.stop_radius.max(self.first.entrance_pupil.diameter / 2.0);
         let tol = 1e-12 * scale.max(1.0);
         let h = 1e-7 * scale;
         let mut e = start;
-        let mut f = self.stop_hit(e).ok_or("the starting ray misses a surface before the stop")? - target;
+        let mut f = self.stop_hit(field, e).ok_or("the starting ray misses a surface before the stop")? - target;
         for _ in 0..NEWTON_STEPS {
             if f.length() <= tol {
                 return Ok(e);
             }
-            let fx = self.stop_hit(e + DVec2::new(h, 0.0)).ok_or("a probe ray misses")? - target;
-            let fy = self.stop_hit(e + DVec2::new(0.0, h)).ok_or("a probe ray misses")? - target;
+            let fx = self.stop_hit(field, e + DVec2::new(h, 0.0)).ok_or("a probe ray misses")? - target;
+            let fy = self.stop_hit(field, e + DVec2::new(0.0, h)).ok_or("a probe ray misses")? - target;
             let (j1, j2) = ((fx - f) / h, (fy - f) / h);
             let det = j1.x * j2.y - j2.x * j1.y;
             if det == 0.0 || !det.is_finite() {
@@ -205,7 +234,7 @@ impl Launcher {
             let mut step = 1.0;
             loop {
                 let cand = e + d * step;
-                if let Some(hit) = self.stop_hit(cand) {
+                if let Some(hit) = self.stop_hit(field, cand) {
                     let fc = hit - target;
                     if fc.length() < f.length() || fc.length() <= tol {
                         e = cand;

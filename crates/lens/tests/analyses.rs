@@ -1,0 +1,182 @@
+//! Analyses against closed forms and special cases.
+
+mod common;
+use common::*;
+use lens::analysis::coc::circle_of_confusion;
+use lens::analysis::curves::{distortion, field_curves};
+use lens::analysis::fan::{ray_fan, ImagePlane};
+use lens::analysis::pattern::{points, Pattern};
+use lens::analysis::spot::spot_diagram;
+use lens::analysis::{Aim, Field, Launcher};
+use lens::paraxial::FirstOrder;
+use lens::{Prescription, PrescriptionSpec, Tracer};
+use proptest::prelude::*;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// A thin singlet stopped down to a small aperture: the real circle of
+    /// confusion matches C = A |S2 - S1| / S2 * f / (S1 - f) within 1% for
+    /// S2 from 0.5 S1 to 10 S1 (S1 from 5 to 30 focal lengths; nearer S1 the
+    /// residual spherical aberration, which the formula ignores, dominates).
+    #[test]
+    fn thin_singlet_coc_matches_the_thin_lens_formula(r in 60.0f64..300.0, n in 1.45f64..1.8, k in 5.0f64..30.0, frac in 0.0f64..1.0) {
+        let p = singlet(Some(r), Some(-r), 0.2, n, 0.005 * r, 100.0);
+        let f = FirstOrder::of(&p).unwrap();
+        let s1 = k * f.efl;
+        let s2s: Vec<f64> = [0.5, 0.5 + 0.3 * frac, 0.8, 1.25, 1.5, 3.0, 3.0 + 7.0 * frac, 10.0].iter().map(|m| m * s1).collect();
+        let t = circle_of_confusion(&p, s1, &s2s).unwrap();
+        for row in &t.rows {
+            let rel = (row.geo_diameter - row.thin_lens_diameter).abs() / row.thin_lens_diameter;
+            prop_assert!(rel < 0.01, "S2 {:?}: real {} thin {} ({rel})", row.distance, row.geo_diameter, row.thin_lens_diameter);
+        }
+    }
+}
+
+#[test]
+fn coc_is_smallest_at_the_focus_distance() {
+    let p = Prescription::load(data_dir().join("double-gauss-50mm.json")).unwrap();
+    let t = circle_of_confusion(&p, 2000.0, &[1000.0, 2000.0, 4000.0, f64::INFINITY]).unwrap();
+    assert!(t.rows[1].geo_diameter < t.rows[0].geo_diameter && t.rows[1].geo_diameter < t.rows[2].geo_diameter);
+    assert_eq!(t.rows[1].thin_lens_diameter, 0.0);
+    assert_eq!(t.rows[3].distance, None);
+    assert!(t.rows.iter().all(|r| r.rms_diameter <= r.geo_diameter));
+}
+
+#[test]
+fn paraxial_limit_lens_has_rms_spot_tending_to_zero() {
+    // Stopping a singlet down, the spherical-aberration blur at the
+    // paraxial focus shrinks as the cube of the aperture, toward 0.
+    let p = singlet(Some(50.0), Some(-50.0), 3.0, 1.5, 10.0, 47.0);
+    let mut last = f64::INFINITY;
+    for sd in [4.0, 2.0, 1.0, 0.5, 0.25, 0.125, 0.0625, 0.03125] {
+        let q = p.with_stop_semi_diameter(sd).unwrap();
+        let s =
+            spot_diagram(&q, Field::Angle(0.0), Pattern::Hexapolar, 8, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
+        assert!(s.rms_radius < last / 7.0, "sd {sd}: {} vs {last}", s.rms_radius);
+        last = s.rms_radius;
+    }
+    assert!(last < 2e-8, "{last}");
+}
+
+#[test]
+fn symmetric_system_at_unit_magnification_has_no_distortion() {
+    // Two identical biconvex lenses symmetric about a central stop, object
+    // and image at 2f from the principal planes (m = -1).
+    let spec = PrescriptionSpec::from_json_str(
+        r#"{"surfaces": [
+        {"radius": 40, "thickness": 4, "ior": 1.6, "semi_diameter": 9},
+        {"radius": -60, "thickness": 5, "semi_diameter": 9},
+        {"thickness": 5, "semi_diameter": 4, "stop": true},
+        {"radius": 60, "thickness": 4, "ior": 1.6, "semi_diameter": 9},
+        {"radius": -40, "thickness": 30, "semi_diameter": 9}]}"#,
+        "<sym>",
+    )
+    .unwrap();
+    let p = Prescription::from_spec(&spec).unwrap();
+    let f = FirstOrder::of(&p).unwrap();
+    let d = 2.0 * f.efl - f.front_principal_plane;
+    let img = lens::paraxial::imaging(&p, &f, lens::paraxial::ObjectDistance::Finite(d)).unwrap();
+    assert!((img.magnification + 1.0).abs() < 1e-12, "{}", img.magnification);
+    for h in [1.0, 5.0, 10.0, 20.0] {
+        // the chief ray through the real stop centre (real aiming): the
+        // symmetry that cancels distortion is about the stop
+        let dist = distortion(&p, Field::Height { object_distance: d, height: h }, Aim::Real).unwrap();
+        assert!(dist.abs() < 1e-9, "h {h}: {dist} %");
+    }
+    // while at infinity the same system does distort
+    let inf = distortion(&p, Field::Angle(15.0), Aim::Real).unwrap();
+    assert!(inf.abs() > 1e-3, "{inf}");
+}
+
+#[test]
+fn fan_contract_chief_is_zero_and_points_are_evenly_spaced() {
+    let p = Prescription::load(data_dir().join("double-gauss-50mm.json")).unwrap();
+    let fan = ray_fan(&p, Field::Angle(5.0), 11, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
+    assert_eq!(fan.tangential.len(), 11);
+    assert_eq!(fan.tangential[5].py, 0.0);
+    assert_eq!(fan.tangential[5].ey, Some(0.0));
+    assert_eq!(fan.sagittal[5].ex, Some(0.0));
+    let f = FirstOrder::of(&p).unwrap();
+    assert!((fan.image_z - (p.last_vertex_z() + f.bfl)).abs() < 1e-12);
+    // the image lands near +EFL tan(theta)
+    assert!((fan.chief[1] - f.efl * 5f64.to_radians().tan()).abs() < 0.05);
+    // sagittal fan is odd in px: ex(-px) = -ex(px)
+    for i in 0..11 {
+        if let (Some(a), Some(b)) = (fan.sagittal[i].ex, fan.sagittal[10 - i].ex) {
+            assert!((a + b).abs() < 1e-12, "{a} {b}");
+        }
+    }
+}
+
+#[test]
+fn square_pattern_keeps_grid_points_inside_the_circle() {
+    let pts = points(Pattern::Square, 101);
+    // Gauss's circle problem on a 50-step half-grid: close to pi/4 of 101^2
+    assert!(pts.len() > 7800 && pts.len() < 8100, "{}", pts.len());
+    assert!(pts.contains(&(0.0, 0.0)) && pts.contains(&(1.0, 0.0)));
+    let p = Prescription::load(data_dir().join("cooke-triplet.json")).unwrap();
+    let s = spot_diagram(&p, Field::Angle(0.0), Pattern::Square, 101, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
+    assert_eq!(s.rays + s.vignetted, pts.len());
+    // on axis the centroid is on the axis and the chief ray is the centroid
+    assert!(s.centroid[0].abs() < 1e-12 && s.centroid[1].abs() < 1e-12);
+    assert!((s.rms_radius - s.rms_radius_chief).abs() < 1e-12);
+    assert!(s.geo_radius >= s.rms_radius);
+}
+
+#[test]
+fn spot_best_focus_shift_beats_the_paraxial_plane() {
+    let p = Prescription::load(data_dir().join("double-gauss-50mm.json")).unwrap();
+    // a dense square grid samples the pupil area evenly (hexapolar rings
+    // over-weight the rim, see docs/convergence.md)
+    let s = spot_diagram(&p, Field::Angle(0.0), Pattern::Square, 201, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
+    assert!(s.rms_radius_best_focus <= s.rms_radius);
+    for dz in [-0.05, 0.05] {
+        assert!(s.rms_at_shift(s.best_focus_shift + dz) > s.rms_radius_best_focus);
+    }
+    // and it agrees with the focus solver's real-ray best focus (within the
+    // difference of pupil sampling)
+    let focus = lens::focus::focus(&p, lens::paraxial::ObjectDistance::Infinity).unwrap();
+    let shift = focus.best_focus_film_distance - focus.film_distance;
+    assert!((s.best_focus_shift - shift).abs() < 2e-4, "{} vs {shift}", s.best_focus_shift);
+}
+
+#[test]
+fn real_aiming_hits_the_stop_where_asked() {
+    let p = Prescription::load(data_dir().join("wide-angle-22mm.json")).unwrap();
+    let l = Launcher::new(&p, Field::Angle(30.0), Aim::Real).unwrap();
+    let to_stop = Tracer::to_stop_unclipped(&p);
+    let r = p.stop_semi_diameter();
+    for (px, py) in [(0.0, 0.0), (0.0, 0.9), (0.0, -0.9), (0.7, 0.0), (0.5, 0.5)] {
+        let hit = to_stop.trace(l.ray(px, py).unwrap()).reached().unwrap();
+        assert!((hit.origin.x - px * r).abs() < 1e-9 && (hit.origin.y - py * r).abs() < 1e-9, "{px},{py}: {hit:?}");
+    }
+}
+
+#[test]
+fn real_aiming_traces_the_fisheye_to_its_full_field() {
+    // Paraxial aiming misses the stop at large fields of a fisheye; real
+    // aiming keeps the chief ray through the stop centre up to the field
+    // where this prescription's clear apertures cut it: at 75 deg the chief
+    // ray meets the front element 15.21 mm from the axis, outside pbrt's
+    // 15.17 mm clear radius, so the full field of this table is 74.8 deg
+    // (the book's 155.9 deg needs a slightly larger front element).
+    let p = Prescription::load(data_dir().join("fisheye-10mm.json")).unwrap();
+    let f = FirstOrder::of(&p).unwrap();
+    let mut last_y = -1.0;
+    for deg in [0.0, 30.0, 50.0, 60.0, 70.0, 74.0, 74.5] {
+        let fan = ray_fan(&p, Field::Angle(deg), 5, Aim::Real, ImagePlane::Paraxial).unwrap();
+        assert!(fan.chief[1] > last_y, "{deg}: chief at {}", fan.chief[1]);
+        last_y = fan.chief[1];
+    }
+    // an equidistant fisheye: image height close to f theta, far below f tan(theta)
+    let theta = 74.5f64.to_radians();
+    assert!((last_y - f.efl * theta).abs() < 0.05 * f.efl * theta, "{last_y} vs {}", f.efl * theta);
+    let paraxial = ray_fan(&p, Field::Angle(74.5), 5, Aim::Paraxial, ImagePlane::Paraxial);
+    assert!(paraxial.is_err() || paraxial.unwrap().vignetted > 0);
+    let beyond = ray_fan(&p, Field::Angle(75.0), 5, Aim::Real, ImagePlane::Paraxial).unwrap_err();
+    assert!(matches!(beyond, lens::OpticsError::ChiefRayLost { .. }), "{beyond:?}");
+    let curves = field_curves(&p, Some(74.5), 5, Aim::Real).unwrap();
+    assert!(curves.fields.iter().all(|x| x.distortion_percent.is_finite()));
+    assert!(curves.fields[4].distortion_percent < -50.0);
+}

@@ -32,13 +32,24 @@ pub struct Args {
     /// Write a plot (.svg or .png).
     #[arg(long, value_name = "OUT")]
     plot: Option<PathBuf>,
+    /// Plot these field angles (degrees, comma-separated) instead of
+    /// --field-deg alone.
+    #[arg(long, value_name = "DEG,DEG", value_parser = crate::analysis_args::parse_list)]
+    plot_fields: Option<std::vec::Vec<f64>>,
 }
 
 pub fn run(a: Args) -> CmdResult {
     let p = load(&a.file, a.f_number)?;
     let fan = ray_fan(&p, Field::Angle(a.field_deg), a.points, a.aim.into(), plane(a.film))?;
     if let Some(out) = &a.plot {
-        plot::save(&plot::fan::fan_chart(std::slice::from_ref(&fan), p.name()), out)?;
+        let fans = match &a.plot_fields {
+            Some(fields) => fields
+                .iter()
+                .map(|&d| ray_fan(&p, Field::Angle(d), a.points, a.aim.into(), plane(a.film)))
+                .collect::<Result<Vec<_>, _>>()?,
+            None => vec![fan.clone()],
+        };
+        plot::save(&plot::fan::fan_chart(&fans, p.name()), out)?;
     }
     if a.json {
         print_json(&serde_json::to_value(&fan)?);

@@ -5,6 +5,7 @@
 mod analysis_args;
 mod bench;
 mod coc;
+mod convergence;
 mod convert;
 mod fan;
 mod field;
@@ -44,6 +45,8 @@ enum Command {
     Field(field::Args),
     /// Draw the lens cross-section with ray bundles.
     Layout(layout::Args),
+    /// Error against run time of the pupil-sampled statistics (markdown).
+    Convergence(convergence::Args),
     /// Time the batch ray tracer on one core.
     Bench(bench::Args),
 }
@@ -60,6 +63,7 @@ fn main() -> ExitCode {
         Command::Coc(a) => coc::run(a),
         Command::Field(a) => field::run(a),
         Command::Layout(a) => layout::run(a),
+        Command::Convergence(a) => convergence::run(a),
         Command::Bench(a) => bench::run(a),
     };
     match result {

@@ -46,6 +46,10 @@ pub struct Args {
     /// Write a plot (.svg or .png).
     #[arg(long, value_name = "OUT")]
     plot: Option<PathBuf>,
+    /// Plot these field angles (degrees, comma-separated) instead of
+    /// --field-deg alone.
+    #[arg(long, value_name = "DEG,DEG", value_parser = crate::analysis_args::parse_list)]
+    plot_fields: Option<std::vec::Vec<f64>>,
 }
 
 pub fn run(a: Args) -> CmdResult {
@@ -57,7 +61,14 @@ pub fn run(a: Args) -> CmdResult {
     };
     let s = spot_diagram(&p, Field::Angle(a.field_deg), pattern, a.n, a.aim.into(), plane(a.film))?;
     if let Some(out) = &a.plot {
-        plot::save(&plot::spot::spot_chart(std::slice::from_ref(&s), p.name()), out)?;
+        let spots = match &a.plot_fields {
+            Some(fields) => fields
+                .iter()
+                .map(|&d| spot_diagram(&p, Field::Angle(d), pattern, a.n, a.aim.into(), plane(a.film)))
+                .collect::<Result<Vec<_>, _>>()?,
+            None => vec![s.clone()],
+        };
+        plot::save(&plot::spot::spot_chart(&spots, p.name()), out)?;
     }
     if a.json {
         print_json(&json!({

@@ -94,16 +94,25 @@ pub(crate) struct AxialBundle {
     pub fill: f64,
     /// Largest |y| on the reference film over a dense meridional fan, mm.
     pub geo_radius: f64,
+    /// Rays traced to build the bundle (rings, fill search and fan).
+    pub rays: usize,
 }
 
 impl AxialBundle {
     /// Traces the bundle from `object` to a film `film` mm behind the last vertex.
     pub fn trace(p: &Prescription, object: ObjectDistance, film: f64) -> Result<Self, OpticsError> {
+        Self::trace_with(p, object, film, BUNDLE_NODES)
+    }
+
+    /// As [`Self::trace`] with `nodes` Gauss–Legendre rings.
+    pub fn trace_with(p: &Prescription, object: ObjectDistance, film: f64, nodes: usize) -> Result<Self, OpticsError> {
         let first = FirstOrder::of(p)?;
         let tracer = Tracer::forward_to_film(p, film);
         let ep = first.entrance_pupil;
         let r_ep = ep.diameter / 2.0;
+        let traced = std::cell::Cell::new(0usize);
         let ray_at = |rho: f64| -> Option<Ray> {
+            traced.set(traced.get() + 1);
             let aim = DVec3::new(0.0, rho * r_ep, ep.z);
             let r = match object {
                 ObjectDistance::Infinity => Ray::new(aim, DVec3::Z)?,
@@ -135,8 +144,8 @@ impl AxialBundle {
         if fill <= 0.0 {
             return Err(OpticsError::NoRealRays { why: "every off-axis ray of the bundle is blocked".into() });
         }
-        let (nodes, weights) = gauss_legendre(BUNDLE_NODES, 0.0, fill * fill);
-        let mut rings = Vec::with_capacity(BUNDLE_NODES);
+        let (nodes, weights) = gauss_legendre(nodes.max(1), 0.0, fill * fill);
+        let mut rings = Vec::with_capacity(nodes.len());
         for (u, w) in nodes.iter().zip(&weights) {
             let Some(r) = ray_at(u.sqrt()) else {
                 return Err(OpticsError::NoRealRays {
@@ -151,7 +160,7 @@ impl AxialBundle {
                 geo_radius = geo_radius.max(r.origin.y.abs());
             }
         }
-        Ok(AxialBundle { rings, fill, geo_radius })
+        Ok(AxialBundle { rings, fill, geo_radius, rays: traced.get() })
     }
 
     /// Mean of y^2, y m and m^2 over the pupil area.

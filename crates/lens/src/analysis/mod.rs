@@ -7,6 +7,7 @@
 //! rays onto the stop. Vignetted rays are counted and left out of statistics.
 
 pub mod coc;
+pub mod convergence;
 pub mod curves;
 pub mod fan;
 pub mod launch;

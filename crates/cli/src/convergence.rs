@@ -1,0 +1,63 @@
+//! `lens convergence`: error against run time of the pupil-sampled
+//! statistics, as a markdown report.
+
+use crate::{load, CmdResult};
+use lens::analysis::convergence::{coc_rms, spot_rms, Convergence};
+use lens::analysis::Field;
+use std::fmt::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Prescription file (.json or pbrt .dat).
+    file: PathBuf,
+    /// Field angle of the spot statistic, degrees.
+    #[arg(long, default_value_t = 10.0)]
+    field_deg: f64,
+    /// Focus distance S1 of the circle-of-confusion statistic, mm.
+    #[arg(long, default_value_t = 2000.0)]
+    focus_mm: f64,
+    /// Object distance S2 of the circle-of-confusion statistic, mm.
+    #[arg(long, default_value_t = 1000.0)]
+    object_mm: f64,
+    /// Write the report here (markdown) instead of standard output.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+fn table(out: &mut String, c: &Convergence) {
+    let _ = writeln!(out, "### {}\n", c.statistic);
+    let _ = writeln!(out, "Reference: {:.9e} mm ({}).\n", c.reference, c.reference_method);
+    let _ = writeln!(out, "| method | rays | time (ms) | estimate (mm) | error (mm) | relative error |");
+    let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|");
+    for r in &c.rows {
+        let _ = writeln!(
+            out,
+            "| {} | {} | {:.3} | {:.9e} | {:.2e} | {:.2e} |",
+            r.method,
+            r.rays,
+            r.seconds * 1e3,
+            r.estimate,
+            r.error,
+            r.error / c.reference.abs().max(f64::MIN_POSITIVE)
+        );
+    }
+    out.push('\n');
+}
+
+pub fn run(a: Args) -> CmdResult {
+    let p = load(&a.file, None)?;
+    let spot = spot_rms(&p, Field::Angle(a.field_deg))?;
+    let coc = coc_rms(&p, a.focus_mm, a.object_mm)?;
+    let mut out = String::new();
+    let _ =
+        writeln!(out, "## {}\n", if p.name().is_empty() { a.file.display().to_string() } else { p.name().to_string() });
+    table(&mut out, &spot);
+    table(&mut out, &coc);
+    match a.output {
+        Some(path) => std::fs::write(&path, out).map_err(|e| format!("{}: {e}", path.display()))?,
+        None => print!("{out}"),
+    }
+    Ok(ExitCode::SUCCESS)
+}

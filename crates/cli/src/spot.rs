@@ -76,6 +76,7 @@ pub fn run(a: Args) -> CmdResult {
             "image_z": s.image_z,
             "rays": s.rays,
             "vignetted": s.vignetted,
+            "aim_failures": s.aim_failures,
             "centroid": s.centroid,
             "rms_radius": s.rms_radius,
             "rms_radius_chief": s.rms_radius_chief,

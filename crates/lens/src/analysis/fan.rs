@@ -49,8 +49,12 @@ pub struct RayFan {
     pub tangential: Vec<TangentialPoint>,
     /// Sagittal fan, px from -1 to 1.
     pub sagittal: Vec<SagittalPoint>,
-    /// Rays of both fans blocked by a clear aperture.
+    /// Rays of both fans blocked by a clear aperture (including those of
+    /// `aim_failures`).
     pub vignetted: usize,
+    /// Rays real aiming could not place on the stop (no real ray reaches that
+    /// stop point); they are reported as vignetted points.
+    pub aim_failures: usize,
 }
 
 /// Where rays are evaluated.
@@ -93,17 +97,27 @@ pub fn ray_fan(p: &Prescription, field: Field, n: usize, aim: Aim, plane: ImageP
     let chief = trace_point(&launcher, &tracer, 0.0, 0.0)?
         .ok_or_else(|| OpticsError::ChiefRayLost { field: field.describe(), why: "vignetted or missed".into() })?;
     let mut vignetted = 0;
+    let mut aim_failures = 0;
+    let mut point = |px: f64, py: f64| -> Result<Option<[f64; 2]>, OpticsError> {
+        match trace_point(&launcher, &tracer, px, py) {
+            Err(OpticsError::AimingFailed { .. }) => {
+                aim_failures += 1;
+                Ok(None)
+            }
+            other => other,
+        }
+    };
     let mut tangential = Vec::with_capacity(n);
     let mut sagittal = Vec::with_capacity(n);
     for c in fan_coordinates(n) {
-        match trace_point(&launcher, &tracer, 0.0, c)? {
+        match point(0.0, c)? {
             Some([x, y]) => tangential.push(TangentialPoint { py: c, x: Some(x), y: Some(y), ey: Some(y - chief[1]) }),
             None => {
                 vignetted += 1;
                 tangential.push(TangentialPoint { py: c, x: None, y: None, ey: None })
             }
         }
-        match trace_point(&launcher, &tracer, c, 0.0)? {
+        match point(c, 0.0)? {
             Some([x, y]) => sagittal.push(SagittalPoint { px: c, x: Some(x), y: Some(y), ex: Some(x - chief[0]) }),
             None => {
                 vignetted += 1;
@@ -115,7 +129,7 @@ pub fn ray_fan(p: &Prescription, field: Field, n: usize, aim: Aim, plane: ImageP
         Field::Angle(d) => Some(d),
         Field::Height { .. } => None,
     };
-    Ok(RayFan { field_deg, image_z, chief, tangential, sagittal, vignetted })
+    Ok(RayFan { field_deg, image_z, chief, tangential, sagittal, vignetted, aim_failures })
 }
 
 /// Traces pupil point (px, py); `None` when vignetted.

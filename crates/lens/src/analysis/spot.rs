@@ -21,8 +21,12 @@ pub struct SpotDiagram {
     pub image_z: f64,
     /// Rays that reached the image plane.
     pub rays: usize,
-    /// Rays blocked by a clear aperture (left out of the statistics).
+    /// Rays blocked by a clear aperture (left out of the statistics),
+    /// including those of `aim_failures`.
     pub vignetted: usize,
+    /// Rays real aiming could not place on the stop (no real ray reaches that
+    /// stop point); left out like vignetted rays.
+    pub aim_failures: usize,
     /// Mean position of the rays.
     pub centroid: [f64; 2],
     /// RMS distance from the centroid.
@@ -97,8 +101,18 @@ pub fn spot_diagram(
     };
     let mut hits = Vec::new();
     let mut vignetted = 0;
+    let mut aim_failures = 0;
     for (px, py) in points(pattern, n) {
-        match tracer.trace(launcher.ray(px, py)?) {
+        let ray = match launcher.ray(px, py) {
+            Ok(r) => r,
+            Err(OpticsError::AimingFailed { .. }) => {
+                aim_failures += 1;
+                vignetted += 1;
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
+        match tracer.trace(ray) {
             Outcome::Reached { ray, .. } if ray.direction.z != 0.0 => {
                 let d = ray.direction;
                 hits.push([ray.origin.x, ray.origin.y, d.x / d.z, d.y / d.z]);
@@ -126,6 +140,7 @@ pub fn spot_diagram(
         image_z,
         rays: hits.len(),
         vignetted,
+        aim_failures,
         centroid,
         rms_radius: rms(centroid),
         rms_radius_chief: rms(chief),

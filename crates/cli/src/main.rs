@@ -12,6 +12,7 @@ mod field;
 mod focus;
 mod info;
 mod layout;
+mod render;
 mod spot;
 mod validate;
 
@@ -47,6 +48,8 @@ enum Command {
     Layout(layout::Args),
     /// Error against run time of the pupil-sampled statistics (markdown).
     Convergence(convergence::Args),
+    /// Render a scene through a pinhole, thin lens or real lens.
+    Render(render::Args),
     /// Time the batch ray tracer on one core.
     Bench(bench::Args),
 }
@@ -64,6 +67,7 @@ fn main() -> ExitCode {
         Command::Field(a) => field::run(a),
         Command::Layout(a) => layout::run(a),
         Command::Convergence(a) => convergence::run(a),
+        Command::Render(a) => render::run(a),
         Command::Bench(a) => bench::run(a),
     };
     match result {

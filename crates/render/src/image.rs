@@ -1,0 +1,104 @@
+//! The rendered image: linear RGB pixels, and writing them as PNG
+//! (tone-mapped sRGB) or OpenEXR (linear float), by file extension.
+
+use glam::DVec3;
+use std::path::Path;
+
+/// A linear-RGB image, row by row from the top.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Image {
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// Pixels, row-major from the top left.
+    pub pixels: Vec<DVec3>,
+}
+
+/// Why an image could not be written or read.
+#[derive(Debug, thiserror::Error)]
+pub enum ImageError {
+    /// Unknown extension or a format compiled out.
+    #[error("{0}: choose an output ending in .png or .exr (and build with that feature)")]
+    Format(String),
+    /// The encoder failed.
+    #[error("{path}: {message}")]
+    Write {
+        /// The file.
+        path: String,
+        /// The cause.
+        message: String,
+    },
+}
+
+/// sRGB transfer function of a linear value in [0, 1].
+pub fn srgb(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+impl Image {
+    /// Mean of every pixel.
+    pub fn mean(&self) -> DVec3 {
+        self.pixels.iter().copied().sum::<DVec3>() / self.pixels.len().max(1) as f64
+    }
+
+    /// Root-mean-square difference from `other` (same size), over channels.
+    pub fn rmse(&self, other: &Image) -> f64 {
+        let n = (self.pixels.len() * 3).max(1) as f64;
+        (self.pixels.iter().zip(&other.pixels).map(|(a, b)| (*a - *b).length_squared()).sum::<f64>() / n).sqrt()
+    }
+
+    /// Writes by extension: `.png` (exposure, clamp, sRGB) or `.exr`.
+    pub fn save(&self, path: &Path, exposure: f64) -> Result<(), ImageError> {
+        let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let err = |m: String| ImageError::Write { path: path.display().to_string(), message: m };
+        match ext.as_deref() {
+            #[cfg(feature = "png")]
+            Some("png") => {
+                let mut buf = Vec::with_capacity(self.width * self.height * 3);
+                for p in &self.pixels {
+                    for c in p.to_array() {
+                        buf.push((srgb(c * exposure) * 255.0).round() as u8);
+                    }
+                }
+                image::save_buffer(path, &buf, self.width as u32, self.height as u32, image::ColorType::Rgb8)
+                    .map_err(|e| err(e.to_string()))
+            }
+            #[cfg(feature = "exr")]
+            Some("exr") => {
+                let px = |x: usize, y: usize| {
+                    let p = self.pixels[y * self.width + x];
+                    (p.x as f32, p.y as f32, p.z as f32)
+                };
+                exr::prelude::write_rgb_file(path, self.width, self.height, px).map_err(|e| err(e.to_string()))
+            }
+            _ => Err(ImageError::Format(path.display().to_string())),
+        }
+    }
+
+    /// Reads a linear RGB OpenEXR file.
+    #[cfg(feature = "exr")]
+    pub fn load_exr(path: &Path) -> Result<Image, ImageError> {
+        use exr::prelude::read_first_rgba_layer_from_file;
+        let err = |m: String| ImageError::Write { path: path.display().to_string(), message: m };
+        let img = read_first_rgba_layer_from_file(
+            path,
+            |res, _| Image {
+                width: res.width(),
+                height: res.height(),
+                pixels: vec![DVec3::ZERO; res.width() * res.height()],
+            },
+            |img: &mut Image, pos, (r, g, b, _a): (f32, f32, f32, f32)| {
+                let w = img.width;
+                img.pixels[pos.y() * w + pos.x()] = DVec3::new(r as f64, g as f64, b as f64);
+            },
+        )
+        .map_err(|e| err(e.to_string()))?;
+        Ok(img.layer_data.channel_data.pixels)
+    }
+}

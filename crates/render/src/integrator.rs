@@ -1,0 +1,98 @@
+//! A unidirectional path tracer with direct light sampling (next event
+//! estimation) on diffuse surfaces and Russian roulette.
+
+use crate::geometry::{Ray, EPS};
+use crate::light::{max_component, sample_shape};
+use crate::material::{cosine_hemisphere, Material, Scatter};
+use crate::rng::Sampler;
+use crate::scene::Scene;
+use glam::DVec3;
+
+/// Longest path, in bounces.
+pub const MAX_DEPTH: usize = 32;
+/// Bounces before Russian roulette may end a path.
+pub const RR_DEPTH: usize = 3;
+
+/// Radiance arriving along `ray` (linear RGB).
+pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
+    let mut l = DVec3::ZERO;
+    let mut beta = DVec3::ONE;
+    // emission seen directly or through specular bounces is counted on hit;
+    // after a diffuse bounce it was already counted by light sampling
+    let mut count_emission = true;
+    for depth in 0..MAX_DEPTH {
+        let scale = 1.0 + ray.origin.abs().max_element();
+        let Some((prim, h)) = scene.intersect(&ray, EPS * scale, f64::INFINITY) else {
+            l += beta * scene.background.radiance(ray.dir);
+            break;
+        };
+        let mat = &scene.materials[scene.material_of[prim]];
+        if let Material::Emissive { .. } = mat {
+            if count_emission {
+                l += beta * mat.emitted(-ray.dir.dot(h.n));
+            }
+            break;
+        }
+        // shading normal on the side the ray came from
+        let ns = if ray.dir.dot(h.n) > 0.0 { -h.n } else { h.n };
+        let p_scale = 1.0 + h.p.abs().max_element();
+        let above = h.p + ns * (EPS * p_scale * 10.0);
+        match mat.scatter(ray.dir, h.n, h.uv, s) {
+            Scatter::None => break,
+            Scatter::Diffuse(albedo) => {
+                l += beta * albedo * direct(scene, above, ns, s) / std::f64::consts::PI;
+                let d = cosine_hemisphere(ns, s.next2());
+                // cosine sampling: cos / pdf = pi cancels the 1/pi of Lambert
+                beta *= albedo;
+                ray = Ray { origin: above, dir: d };
+                count_emission = false;
+            }
+            Scatter::Specular(d, w) => {
+                beta *= w;
+                let side = if d.dot(h.n) > 0.0 { h.n } else { -h.n };
+                ray = Ray { origin: h.p + side * (EPS * p_scale * 10.0), dir: d };
+                count_emission = true;
+            }
+        }
+        if depth >= RR_DEPTH {
+            let q = max_component(beta).min(0.95);
+            if q <= 0.0 || s.uniform() >= q {
+                break;
+            }
+            beta /= q;
+        }
+    }
+    l
+}
+
+/// Direct light at a diffuse point `p` with normal `n` (irradiance times pi:
+/// the caller multiplies by albedo / pi): point lights, and one emissive
+/// shape chosen uniformly, sampled by area.
+fn direct(scene: &Scene, p: DVec3, n: DVec3, s: &mut Sampler) -> DVec3 {
+    let mut e = DVec3::ZERO;
+    for &(lp, intensity) in &scene.point_lights {
+        let d = lp - p;
+        let dist2 = d.length_squared();
+        let cos = n.dot(d) / dist2.sqrt();
+        if cos > 0.0 && scene.visible(p, lp) {
+            e += intensity * cos / dist2;
+        }
+    }
+    if !scene.emitters.is_empty() {
+        let k = ((s.uniform() * scene.emitters.len() as f64) as usize).min(scene.emitters.len() - 1);
+        let prim = scene.emitters[k];
+        if let Some((q, nq, pdf_area)) = sample_shape(&scene.shapes[prim], s) {
+            let d = q - p;
+            let dist2 = d.length_squared();
+            let dir = d / dist2.sqrt();
+            let cos = n.dot(dir);
+            let cos_l = -nq.dot(dir);
+            if cos > 0.0 && cos_l > 0.0 && scene.visible(p, q) {
+                let le = scene.materials[scene.material_of[prim]].emitted(cos_l);
+                let pdf = pdf_area / scene.emitters.len() as f64;
+                e += le * cos * cos_l / (dist2 * pdf);
+            }
+        }
+    }
+    e
+}

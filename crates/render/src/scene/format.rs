@@ -1,0 +1,333 @@
+//! The scene file format (JSON, lengths in metres), as written by a user.
+//! See docs/scene-format.md.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// An RGB triple (linear).
+pub type Rgb = [f64; 3];
+/// A point or vector, metres.
+pub type V3 = [f64; 3];
+
+/// A whole scene file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// The camera.
+    pub camera: CameraSpec,
+    /// Image size and sampling.
+    pub film: FilmSpec,
+    /// What rays that leave the scene see.
+    #[serde(default)]
+    pub background: BackgroundSpec,
+    /// Named materials.
+    #[serde(default)]
+    pub materials: BTreeMap<String, MaterialSpec>,
+    /// The shapes.
+    #[serde(default)]
+    pub shapes: Vec<ShapeSpec>,
+    /// Point lights.
+    #[serde(default)]
+    pub lights: Vec<LightSpec>,
+}
+
+/// Where the camera is and how it looks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Pose {
+    /// Camera position (the film centre for a real lens), m.
+    pub position: V3,
+    /// A point the camera looks at, m.
+    pub look_at: V3,
+    /// Up direction.
+    pub up: V3,
+}
+
+fn up() -> V3 {
+    [0.0, 1.0, 0.0]
+}
+
+/// The shape of a thin or real lens's aperture.
+#[derive(Debug, Clone, Deserialize, Default, PartialEq)]
+#[serde(tag = "shape", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ApertureSpec {
+    /// A disc.
+    #[default]
+    Circle,
+    /// A regular polygon inscribed in the aperture circle.
+    Polygon {
+        /// Number of blades (3 or more).
+        blades: u32,
+        /// Rotation, degrees.
+        #[serde(default)]
+        rotation_deg: f64,
+    },
+}
+
+/// A camera. (Pose fields are repeated in each variant rather than
+/// flattened, so that unknown fields are still rejected.)
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum CameraSpec {
+    /// An ideal pinhole.
+    Pinhole {
+        /// Camera position (the film centre for a real lens), m.
+        position: V3,
+        /// A point the camera looks at, m.
+        look_at: V3,
+        /// Up direction (default +y).
+        #[serde(default = "up")]
+        up: V3,
+        /// Vertical field of view, degrees.
+        fov_deg: f64,
+    },
+    /// Cook-style thin lens: rays from a point of the aperture toward the
+    /// point of the focal plane that the pinhole ray meets.
+    ThinLens {
+        /// Camera position (the film centre for a real lens), m.
+        position: V3,
+        /// A point the camera looks at, m.
+        look_at: V3,
+        /// Up direction (default +y).
+        #[serde(default = "up")]
+        up: V3,
+        /// Vertical field of view, degrees.
+        fov_deg: f64,
+        /// Aperture diameter, m (0 = pinhole). Or give `f_number` and
+        /// `focal_length_mm`.
+        #[serde(default)]
+        aperture: Option<f64>,
+        /// f-number (with `focal_length_mm`).
+        #[serde(default)]
+        f_number: Option<f64>,
+        /// Focal length, mm (with `f_number`).
+        #[serde(default)]
+        focal_length_mm: Option<f64>,
+        /// Distance from the lens to the plane in focus, m.
+        focus_distance: f64,
+        /// Aperture shape.
+        #[serde(default)]
+        aperture_shape: ApertureSpec,
+        /// The cheap trick of the original study: shorten the focal distance
+        /// linearly with the sample's distance from the lens centre (0 = off;
+        /// 0.1 = 10% shorter at the rim), imitating spherical aberration.
+        #[serde(default)]
+        focus_shift: f64,
+    },
+    /// A real lens traced surface by surface.
+    Lens {
+        /// Camera position (the film centre for a real lens), m.
+        position: V3,
+        /// A point the camera looks at, m.
+        look_at: V3,
+        /// Up direction (default +y).
+        #[serde(default = "up")]
+        up: V3,
+        /// Prescription file (JSON or pbrt .dat), relative to the scene file.
+        prescription: String,
+        /// f-number (resizes the stop).
+        #[serde(default)]
+        f_number: Option<f64>,
+        /// Or the stop's clear radius, mm.
+        #[serde(default)]
+        stop_semi_diameter: Option<f64>,
+        /// Distance from the film plane to the plane in focus, m.
+        focus_distance: f64,
+        /// Sensor width and height, mm.
+        sensor_mm: [f64; 2],
+        /// Aperture shape (applied at the stop).
+        #[serde(default)]
+        aperture_shape: ApertureSpec,
+    },
+}
+
+/// Image size and sampling.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FilmSpec {
+    /// Width, pixels.
+    pub width: u32,
+    /// Height, pixels.
+    pub height: u32,
+    /// Samples per pixel.
+    #[serde(default = "spp")]
+    pub spp: u32,
+    /// Exposure multiplier applied before tone mapping (PNG only).
+    #[serde(default = "one")]
+    pub exposure: f64,
+    /// Pixel reconstruction filter.
+    #[serde(default)]
+    pub filter: FilterSpec,
+}
+
+fn spp() -> u32 {
+    16
+}
+fn one() -> f64 {
+    1.0
+}
+
+/// Pixel filters.
+#[derive(Debug, Clone, Copy, Deserialize, Default, PartialEq)]
+#[serde(rename_all = "snake_case")]
+pub enum FilterSpec {
+    /// Samples uniform over the pixel, equal weights.
+    #[default]
+    Box,
+    /// Samples over two pixels' width with tent-distributed offsets.
+    Tent,
+}
+
+/// The background.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum BackgroundSpec {
+    /// Uniform radiance.
+    Constant {
+        /// Radiance.
+        radiance: Rgb,
+    },
+    /// A gradient from the horizon to the zenith (below the horizon:
+    /// `ground`).
+    Sky {
+        /// At the horizon.
+        horizon: Rgb,
+        /// Straight up.
+        zenith: Rgb,
+        /// Below the horizon.
+        #[serde(default)]
+        ground: Rgb,
+    },
+}
+
+impl Default for BackgroundSpec {
+    fn default() -> Self {
+        BackgroundSpec::Constant { radiance: [0.0; 3] }
+    }
+}
+
+/// A material.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MaterialSpec {
+    /// Lambertian.
+    Diffuse {
+        /// Albedo in [0, 1].
+        color: Rgb,
+    },
+    /// Lambertian checkerboard.
+    Checker {
+        /// First colour.
+        a: Rgb,
+        /// Second colour.
+        b: Rgb,
+        /// Square size (m on planes, 0..1 on quads and spheres).
+        scale: f64,
+    },
+    /// Light emitter.
+    Emissive {
+        /// Radiance.
+        radiance: Rgb,
+    },
+    /// Mirror.
+    Mirror {
+        /// Reflectance.
+        #[serde(default = "white")]
+        tint: Rgb,
+    },
+    /// Glass.
+    Glass {
+        /// Refractive index.
+        ior: f64,
+    },
+}
+
+fn white() -> Rgb {
+    [1.0; 3]
+}
+
+/// A shape with its material name.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ShapeSpec {
+    /// A sphere.
+    Sphere {
+        /// Centre, m.
+        center: V3,
+        /// Radius, m.
+        radius: f64,
+        /// Material name.
+        material: String,
+    },
+    /// An infinite plane.
+    Plane {
+        /// A point on it.
+        point: V3,
+        /// Its normal.
+        normal: V3,
+        /// Material name.
+        material: String,
+    },
+    /// A parallelogram corner + s u + t v.
+    Quad {
+        /// Corner.
+        corner: V3,
+        /// First edge.
+        u: V3,
+        /// Second edge.
+        v: V3,
+        /// Material name.
+        material: String,
+    },
+    /// An axis-aligned box.
+    Box {
+        /// Minimum corner.
+        min: V3,
+        /// Maximum corner.
+        max: V3,
+        /// Material name.
+        material: String,
+    },
+    /// A Wavefront OBJ triangle mesh.
+    Mesh {
+        /// OBJ file, relative to the scene file.
+        obj: String,
+        /// Uniform scale.
+        #[serde(default = "unit")]
+        scale: f64,
+        /// Translation, m.
+        #[serde(default)]
+        translate: V3,
+        /// Material name.
+        material: String,
+    },
+}
+
+fn unit() -> f64 {
+    1.0
+}
+
+/// A light that is not a shape.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum LightSpec {
+    /// An isotropic point light.
+    Point {
+        /// Position, m.
+        position: V3,
+        /// Intensity, W / sr per channel.
+        intensity: Rgb,
+    },
+}
+
+impl CameraSpec {
+    /// The camera's pose.
+    pub fn pose(&self) -> Pose {
+        match self {
+            CameraSpec::Pinhole { position, look_at, up, .. }
+            | CameraSpec::ThinLens { position, look_at, up, .. }
+            | CameraSpec::Lens { position, look_at, up, .. } => {
+                Pose { position: *position, look_at: *look_at, up: *up }
+            }
+        }
+    }
+}

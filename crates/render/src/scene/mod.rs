@@ -1,0 +1,398 @@
+//! A scene ready to render: shapes with materials, lights, background and
+//! camera, built from a scene file with every problem reported by field.
+
+pub mod format;
+
+use crate::bvh::{Bvh, BVH_THRESHOLD};
+use crate::camera::aperture::Aperture;
+use crate::camera::{real_lens::RealLensCamera, Camera, Frame};
+use crate::geometry::{Hit, Ray, Shape};
+use crate::material::Material;
+use format::*;
+use glam::DVec3;
+use std::path::Path;
+
+/// Why a scene could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// A file could not be read.
+    #[error("{path}: cannot read: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The cause.
+        message: String,
+    },
+    /// Malformed JSON, an unknown field or a wrong type.
+    #[error("{path}: line {line}, column {column}: {message}")]
+    Json {
+        /// The file.
+        path: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// serde's message.
+        message: String,
+    },
+    /// An impossible value; names the field and what to change.
+    #[error("{path}: {field}: {message}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// The field, e.g. `shapes[3].radius`.
+        field: String,
+        /// What to change.
+        message: String,
+    },
+}
+
+/// What rays that leave the scene see.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Background {
+    /// Uniform.
+    Constant(DVec3),
+    /// Gradient.
+    Sky {
+        /// Horizon.
+        horizon: DVec3,
+        /// Zenith.
+        zenith: DVec3,
+        /// Below the horizon.
+        ground: DVec3,
+    },
+}
+
+impl Background {
+    /// Radiance seen along `d`.
+    pub fn radiance(&self, d: DVec3) -> DVec3 {
+        match *self {
+            Background::Constant(c) => c,
+            Background::Sky { horizon, zenith, ground } => {
+                if d.y < 0.0 {
+                    ground
+                } else {
+                    horizon.lerp(zenith, d.y.clamp(0.0, 1.0))
+                }
+            }
+        }
+    }
+}
+
+/// A built scene.
+#[derive(Debug, Clone)]
+pub struct Scene {
+    /// Primitives.
+    pub shapes: Vec<Shape>,
+    /// Material index of each primitive.
+    pub material_of: Vec<usize>,
+    /// Materials.
+    pub materials: Vec<Material>,
+    /// Primitives with an emissive material (area lights), bounded ones.
+    pub emitters: Vec<usize>,
+    /// Point lights: position, intensity.
+    pub point_lights: Vec<(DVec3, DVec3)>,
+    /// Background.
+    pub background: Background,
+    /// Camera.
+    pub camera: Camera,
+    /// Film settings.
+    pub film: FilmSpec,
+    bvh: Option<Bvh>,
+    /// Primitives tested one by one (planes, or all when there is no BVH).
+    linear: Vec<usize>,
+}
+
+fn v3(a: V3) -> DVec3 {
+    DVec3::from_array(a)
+}
+
+impl Scene {
+    /// Loads and builds a scene file. Paths inside it are relative to it.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let name = path.display().to_string();
+        let text =
+            std::fs::read_to_string(path).map_err(|e| SceneError::Io { path: name.clone(), message: e.to_string() })?;
+        let file: SceneFile = serde_json::from_str(&text).map_err(|e| SceneError::Json {
+            path: name.clone(),
+            line: e.line(),
+            column: e.column(),
+            message: e.to_string(),
+        })?;
+        Scene::build(file, path.parent().unwrap_or(Path::new(".")), &name)
+    }
+
+    /// Builds a scene from its parsed file; `dir` resolves relative paths.
+    pub fn build(file: SceneFile, dir: &Path, name: &str) -> Result<Scene, SceneError> {
+        let bad = |field: String, message: String| SceneError::Invalid { path: name.to_string(), field, message };
+        let finite = |field: &str, v: &[f64]| -> Result<(), SceneError> {
+            if v.iter().all(|x| x.is_finite()) {
+                Ok(())
+            } else {
+                Err(bad(field.into(), "must be finite numbers".into()))
+            }
+        };
+        // film
+        let f = &file.film;
+        if f.width == 0 || f.height == 0 || f.width > 16384 || f.height > 16384 {
+            return Err(bad(
+                "film".into(),
+                format!("{} x {} pixels: width and height must be 1..=16384", f.width, f.height),
+            ));
+        }
+        if f.spp == 0 {
+            return Err(bad("film.spp".into(), "samples per pixel must be at least 1".into()));
+        }
+        if !(f.exposure.is_finite() && f.exposure > 0.0) {
+            return Err(bad("film.exposure".into(), "must be a positive number".into()));
+        }
+        // materials
+        let mut names = Vec::new();
+        let mut materials = Vec::new();
+        for (key, m) in &file.materials {
+            let field = format!("materials.{key}");
+            let rgb = |c: Rgb, what: &str| -> Result<DVec3, SceneError> {
+                if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
+                    Ok(v3(c))
+                } else {
+                    Err(bad(format!("{field}.{what}"), "colours must be finite and >= 0".into()))
+                }
+            };
+            materials.push(match *m {
+                MaterialSpec::Diffuse { color } => Material::Diffuse { albedo: rgb(color, "color")?.min(DVec3::ONE) },
+                MaterialSpec::Checker { a, b, scale } => {
+                    if !(scale.is_finite() && scale > 0.0) {
+                        return Err(bad(format!("{field}.scale"), "must be a positive size".into()));
+                    }
+                    Material::Checker { a: rgb(a, "a")?.min(DVec3::ONE), b: rgb(b, "b")?.min(DVec3::ONE), scale }
+                }
+                MaterialSpec::Emissive { radiance } => Material::Emissive { radiance: rgb(radiance, "radiance")? },
+                MaterialSpec::Mirror { tint } => Material::Mirror { tint: rgb(tint, "tint")?.min(DVec3::ONE) },
+                MaterialSpec::Glass { ior } => {
+                    if !(ior.is_finite() && ior >= 1.0) {
+                        return Err(bad(format!("{field}.ior"), format!("{ior}: a refractive index >= 1")));
+                    }
+                    Material::Glass { ior }
+                }
+            });
+            names.push(key.clone());
+        }
+        let material = |i: usize, m: &str| -> Result<usize, SceneError> {
+            names.iter().position(|n| n == m).ok_or_else(|| {
+                bad(
+                    format!("shapes[{i}].material"),
+                    format!("no material named \"{m}\" (defined: {})", names.join(", ")),
+                )
+            })
+        };
+        // shapes
+        let mut shapes = Vec::new();
+        let mut material_of = Vec::new();
+        for (i, s) in file.shapes.iter().enumerate() {
+            let field = |f: &str| format!("shapes[{i}].{f}");
+            match s {
+                ShapeSpec::Sphere { center, radius, material: m } => {
+                    finite(&field("center"), center)?;
+                    if !(radius.is_finite() && *radius > 0.0) {
+                        return Err(bad(field("radius"), format!("{radius}: a sphere needs a positive radius")));
+                    }
+                    shapes.push(Shape::Sphere { center: v3(*center), radius: *radius });
+                    material_of.push(material(i, m)?);
+                }
+                ShapeSpec::Plane { point, normal, material: m } => {
+                    finite(&field("point"), point)?;
+                    let n = v3(*normal)
+                        .try_normalize()
+                        .ok_or_else(|| bad(field("normal"), "must be a non-zero vector".into()))?;
+                    shapes.push(Shape::Plane { point: v3(*point), normal: n });
+                    material_of.push(material(i, m)?);
+                }
+                ShapeSpec::Quad { corner, u, v, material: m } => {
+                    finite(&field("corner"), corner)?;
+                    if v3(*u).cross(v3(*v)).length() == 0.0 || !v3(*u).is_finite() || !v3(*v).is_finite() {
+                        return Err(bad(field("u"), "u and v must be finite, non-parallel edges".into()));
+                    }
+                    shapes.push(Shape::Quad { corner: v3(*corner), u: v3(*u), v: v3(*v) });
+                    material_of.push(material(i, m)?);
+                }
+                ShapeSpec::Box { min, max, material: m } => {
+                    let (lo, hi) = (v3(*min), v3(*max));
+                    if !(lo.is_finite() && hi.is_finite() && lo.cmplt(hi).all()) {
+                        return Err(bad(field("max"), "each coordinate of max must exceed min".into()));
+                    }
+                    let mi = material(i, m)?;
+                    let d = hi - lo;
+                    let (x, y, z) = (DVec3::X * d.x, DVec3::Y * d.y, DVec3::Z * d.z);
+                    // six faces, normals outward (u x v)
+                    for (c, u, v) in [(lo, y, x), (lo, x, z), (lo, z, y), (hi, -x, -y), (hi, -z, -x), (hi, -y, -z)] {
+                        shapes.push(Shape::Quad { corner: c, u, v });
+                        material_of.push(mi);
+                    }
+                }
+                ShapeSpec::Mesh { obj, scale, translate, material: m } => {
+                    let mi = material(i, m)?;
+                    let p = dir.join(obj);
+                    let text = std::fs::read_to_string(&p)
+                        .map_err(|e| bad(field("obj"), format!("{}: cannot read: {e}", p.display())))?;
+                    let tris = crate::mesh::parse_obj(&text)
+                        .map_err(|e| bad(field("obj"), format!("{}: {e}", p.display())))?;
+                    if !(scale.is_finite() && *scale > 0.0) {
+                        return Err(bad(field("scale"), "must be positive".into()));
+                    }
+                    finite(&field("translate"), translate)?;
+                    for t in tris {
+                        shapes.push(Shape::Triangle { v: t.map(|p| p * *scale + v3(*translate)) });
+                        material_of.push(mi);
+                    }
+                }
+            }
+        }
+        let emitters = (0..shapes.len())
+            .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }) && shapes[i].area().is_finite())
+            .collect();
+        let mut point_lights = Vec::new();
+        for (i, l) in file.lights.iter().enumerate() {
+            let LightSpec::Point { position, intensity } = l;
+            finite(&format!("lights[{i}].position"), position)?;
+            if !intensity.iter().all(|x| x.is_finite() && *x >= 0.0) {
+                return Err(bad(format!("lights[{i}].intensity"), "must be finite and >= 0".into()));
+            }
+            point_lights.push((v3(*position), v3(*intensity)));
+        }
+        let background = match file.background {
+            BackgroundSpec::Constant { radiance } => Background::Constant(v3(radiance)),
+            BackgroundSpec::Sky { horizon, zenith, ground } => {
+                Background::Sky { horizon: v3(horizon), zenith: v3(zenith), ground: v3(ground) }
+            }
+        };
+        let camera = build_camera(&file.camera, f, dir).map_err(|(field, message)| bad(field, message))?;
+        // acceleration only when there are enough bounded primitives
+        let bounded: Vec<usize> = (0..shapes.len()).filter(|&i| !matches!(shapes[i], Shape::Plane { .. })).collect();
+        let (bvh, linear) = if bounded.len() >= BVH_THRESHOLD {
+            let planes = (0..shapes.len()).filter(|&i| matches!(shapes[i], Shape::Plane { .. })).collect();
+            (Some(Bvh::build(&shapes, bounded)), planes)
+        } else {
+            (None, (0..shapes.len()).collect())
+        };
+        Ok(Scene {
+            shapes,
+            material_of,
+            materials,
+            emitters,
+            point_lights,
+            background,
+            camera,
+            film: file.film,
+            bvh,
+            linear,
+        })
+    }
+
+    /// Nearest hit: (primitive, hit).
+    pub fn intersect(&self, r: &Ray, t_min: f64, t_max: f64) -> Option<(usize, Hit)> {
+        let mut best = self.bvh.as_ref().and_then(|b| b.intersect(&self.shapes, r, t_min, t_max));
+        let mut t_max = best.map_or(t_max, |b| b.1.t);
+        for &i in &self.linear {
+            if let Some(h) = self.shapes[i].intersect(r, t_min, t_max) {
+                t_max = h.t;
+                best = Some((i, h));
+            }
+        }
+        best
+    }
+
+    /// Whether the segment from `a` to `b` is unobstructed.
+    pub fn visible(&self, a: DVec3, b: DVec3) -> bool {
+        let d = b - a;
+        let len = d.length();
+        let r = Ray { origin: a, dir: d / len };
+        self.intersect(&r, crate::geometry::EPS * (1.0 + a.abs().max_element()), len * (1.0 - 1e-7)).is_none()
+    }
+}
+
+fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (String, String)> {
+    let aspect = film.width as f64 / film.height as f64;
+    let pose = |p: &Pose| -> Result<Frame, (String, String)> {
+        if ![p.position, p.look_at, p.up].iter().flatten().all(|x| x.is_finite()) {
+            return Err(("camera".into(), "position, look_at and up must be finite".into()));
+        }
+        Frame::look_at(v3(p.position), v3(p.look_at), v3(p.up)).map_err(|m| ("camera.look_at".into(), m))
+    };
+    let fov = |f: f64| -> Result<f64, (String, String)> {
+        if f.is_finite() && f > 0.0 && f < 180.0 {
+            Ok((f.to_radians() / 2.0).tan())
+        } else {
+            Err(("camera.fov_deg".into(), format!("{f}: a field of view between 0 and 180 degrees")))
+        }
+    };
+    match c {
+        CameraSpec::Pinhole { fov_deg, .. } => {
+            Ok(Camera::Pinhole { frame: pose(&c.pose())?, tan_half: fov(*fov_deg)?, aspect })
+        }
+        CameraSpec::ThinLens {
+            fov_deg,
+            aperture,
+            f_number,
+            focal_length_mm,
+            focus_distance,
+            aperture_shape,
+            focus_shift,
+            ..
+        } => {
+            let diameter = match (aperture, f_number, focal_length_mm) {
+                (Some(a), None, _) => *a,
+                (None, Some(n), Some(f)) => f / n * 1e-3,
+                (None, None, _) => 0.0,
+                _ => {
+                    return Err((
+                        "camera.aperture".into(),
+                        "give either aperture (m) or f_number with focal_length_mm".into(),
+                    ))
+                }
+            };
+            if !(diameter.is_finite() && diameter >= 0.0) {
+                return Err(("camera.aperture".into(), format!("{diameter}: a diameter >= 0 m")));
+            }
+            if !(focus_distance.is_finite() && *focus_distance > 0.0) {
+                return Err(("camera.focus_distance".into(), "must be a positive distance in m".into()));
+            }
+            if !(focus_shift.is_finite() && (0.0..1.0).contains(focus_shift)) {
+                return Err(("camera.focus_shift".into(), "must be in [0, 1)".into()));
+            }
+            Ok(Camera::ThinLens {
+                frame: pose(&c.pose())?,
+                tan_half: fov(*fov_deg)?,
+                aspect,
+                radius: diameter / 2.0,
+                focus: *focus_distance,
+                aperture: Aperture::from_spec(aperture_shape).map_err(|m| ("camera.aperture_shape".into(), m))?,
+                focus_shift: *focus_shift,
+            })
+        }
+        CameraSpec::Lens {
+            prescription,
+            f_number,
+            stop_semi_diameter,
+            focus_distance,
+            sensor_mm,
+            aperture_shape,
+            ..
+        } => {
+            let path = dir.join(prescription);
+            let mut lens =
+                lens::Prescription::load(&path).map_err(|e| ("camera.prescription".to_string(), e.to_string()))?;
+            if let Some(n) = f_number {
+                lens = lens.with_f_number(*n).map_err(|e| ("camera.f_number".to_string(), e.to_string()))?;
+            }
+            if let Some(sd) = stop_semi_diameter {
+                lens = lens
+                    .with_stop_semi_diameter(*sd)
+                    .map_err(|e| ("camera.stop_semi_diameter".to_string(), e.to_string()))?;
+            }
+            let aperture = Aperture::from_spec(aperture_shape).map_err(|m| ("camera.aperture_shape".into(), m))?;
+            let cam = RealLensCamera::new(pose(&c.pose())?, &lens, *focus_distance, *sensor_mm, aperture)
+                .map_err(|m| ("camera".to_string(), m))?;
+            Ok(Camera::Real(Box::new(cam)))
+        }
+    }
+}

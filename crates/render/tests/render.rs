@@ -1,0 +1,152 @@
+//! Renders with known answers.
+
+use glam::DVec3;
+use render::scene::format::SceneFile;
+use render::{render, Image, Options, Scene};
+use std::path::Path;
+
+fn scene(json: &str) -> Scene {
+    let file: SceneFile = serde_json::from_str(json).unwrap();
+    Scene::build(file, Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/scenes").as_path(), "<test>")
+        .unwrap()
+}
+
+fn run(s: &Scene, spp: u32) -> Image {
+    render(s, Options { spp, seed: 7 }, &|_| {}).0
+}
+
+#[test]
+fn white_furnace_returns_the_environment() {
+    for albedo in [1.0, 0.5] {
+        let s = scene(&format!(
+            r#"{{"camera": {{"type": "pinhole", "position": [0,0,-3], "look_at": [0,0,0], "fov_deg": 40}},
+                "film": {{"width": 24, "height": 24, "spp": 4}},
+                "background": {{"type": "constant", "radiance": [1, 1, 1]}},
+                "materials": {{"m": {{"type": "diffuse", "color": [{albedo}, {albedo}, {albedo}]}}}},
+                "shapes": [{{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "m"}}]}}"#
+        ));
+        let img = run(&s, 16);
+        let centre = img.pixels[12 * 24 + 12];
+        assert!((centre - DVec3::splat(albedo)).abs().max_element() < 0.01 * albedo, "{centre}");
+        for p in &img.pixels {
+            // every pixel is the environment (1) or the sphere's albedo x 1
+            let ok = (p.x - 1.0).abs() < 0.01 || (p.x - albedo).abs() < 0.01 * albedo || (albedo..=1.0).contains(&p.x);
+            assert!(ok && (p.x - p.y).abs() < 1e-12, "{p}");
+        }
+        if albedo == 1.0 {
+            assert!(img.pixels.iter().all(|p| (p.x - 1.0).abs() < 0.01), "the white furnace is uniform");
+        }
+    }
+}
+
+const STUDY: &str = r#""film": {"width": 48, "height": 32, "spp": 4},
+    "background": {"type": "sky", "horizon": [0.6, 0.6, 0.7], "zenith": [0.1, 0.2, 0.5]},
+    "materials": {"g": {"type": "checker", "a": [0.8,0.8,0.8], "b": [0.1,0.1,0.1], "scale": 1},
+                  "r": {"type": "diffuse", "color": [0.8, 0.2, 0.1]},
+                  "l": {"type": "emissive", "radiance": [20, 20, 20]}},
+    "shapes": [{"type": "plane", "point": [0,0,0], "normal": [0,1,0], "material": "g"},
+               {"type": "sphere", "center": [0, 0.5, 5], "radius": 0.5, "material": "r"},
+               {"type": "sphere", "center": [1, 2, 9], "radius": 0.1, "material": "l"}]"#;
+
+#[test]
+fn thin_lens_with_aperture_zero_is_the_pinhole() {
+    let pose = r#""position": [0, 1, -1], "look_at": [0, 0.5, 5], "fov_deg": 40"#;
+    let pin = scene(&format!(r#"{{"camera": {{"type": "pinhole", {pose}}}, {STUDY}}}"#));
+    let thin = scene(&format!(
+        r#"{{"camera": {{"type": "thin_lens", {pose}, "aperture": 0, "focus_distance": 6}}, {STUDY}}}"#
+    ));
+    assert_eq!(run(&pin, 4), run(&thin, 4));
+}
+
+#[test]
+fn renders_are_deterministic_across_thread_counts() {
+    let s = scene(&format!(
+        r#"{{"camera": {{"type": "thin_lens", "position": [0,1,-1], "look_at": [0,0.5,5], "fov_deg": 40, "aperture": 0.2, "focus_distance": 6}}, {STUDY}}}"#
+    ));
+    let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| run(&s, 4));
+    let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| run(&s, 4));
+    assert_eq!(one, two);
+}
+
+/// Diameter in pixels of a uniform bright disk from the intensity-weighted
+/// second moment about its centroid (E[r^2] = D^2 / 8), which noise and
+/// sparse sampling do not bias; `spread` is the diameter of what is blurred
+/// (a lamp's own image), removed in quadrature.
+fn disk_diameter(img: &Image, spread: f64) -> f64 {
+    let (mut w, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for (i, p) in img.pixels.iter().enumerate() {
+        let (x, y) = ((i % img.width) as f64 + 0.5, (i / img.width) as f64 + 0.5);
+        w += p.x;
+        cx += p.x * x;
+        cy += p.x * y;
+    }
+    let (cx, cy) = (cx / w, cy / w);
+    let m2 = img
+        .pixels
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let (x, y) = ((i % img.width) as f64 + 0.5 - cx, (i / img.width) as f64 + 0.5 - cy);
+            p.x * (x * x + y * y)
+        })
+        .sum::<f64>()
+        / w;
+    (8.0 * m2 - spread * spread).max(0.0).sqrt()
+}
+
+#[test]
+fn thin_lens_point_light_blurs_into_the_thin_lens_circle_of_confusion() {
+    // A small lamp at 4 m, focus at 6 m, aperture 0.2 m: on the focal plane
+    // the blur is A |S2 - F| / S2 = 0.1 m across.
+    let (s2, f, a, r) = (4.0, 6.0, 0.2, 0.01);
+    let s = scene(&format!(
+        r#"{{"camera": {{"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 3, "aperture": {a}, "focus_distance": {f}}},
+            "film": {{"width": 160, "height": 160, "spp": 64}},
+            "materials": {{"l": {{"type": "emissive", "radiance": [1000, 1000, 1000]}}}},
+            "shapes": [{{"type": "sphere", "center": [0, 0, {s2}], "radius": {r}, "material": "l"}}]}}"#
+    ));
+    let img = run(&s, 64);
+    let px_per_m = 160.0 / (2.0 * f * (1.5f64.to_radians()).tan());
+    let expected = a * (s2 - f).abs() / s2 * px_per_m;
+    // the lamp itself seen through the focal plane: 2 r F / S2
+    let lamp = 2.0 * r * f / s2 * px_per_m;
+    let measured = disk_diameter(&img, lamp);
+    assert!((measured - expected).abs() < 2.0, "disk {measured:.2} px vs thin-lens {expected:.2} px");
+}
+
+#[cfg(feature = "exr")]
+#[test]
+fn exr_round_trips() {
+    let s = scene(&format!(
+        r#"{{"camera": {{"type": "pinhole", "position": [0,1,-1], "look_at": [0,0.5,5], "fov_deg": 40}}, {STUDY}}}"#
+    ));
+    let img = run(&s, 2);
+    let path = std::env::temp_dir().join(format!("render-roundtrip-{}.exr", std::process::id()));
+    img.save(&path, 1.0).unwrap();
+    let back = Image::load_exr(&path).unwrap();
+    assert_eq!((back.width, back.height), (img.width, img.height));
+    for (a, b) in img.pixels.iter().zip(&back.pixels) {
+        // stored as f32
+        assert!((*a - *b).abs().max_element() <= 1e-6 * a.abs().max_element().max(1.0), "{a} vs {b}");
+    }
+}
+
+#[test]
+fn bad_scenes_get_errors_naming_the_field() {
+    let cases = [
+        (r#""shapes": [{"type": "sphere", "center": [0,0,0], "radius": -1, "material": "m"}]"#, "shapes[0].radius"),
+        (r#""shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "nope"}]"#, "shapes[0].material"),
+        (r#""shapes": [{"type": "mesh", "obj": "missing.obj", "material": "m"}]"#, "shapes[0].obj"),
+    ];
+    for (shapes, field) in cases {
+        let json = format!(
+            r#"{{"camera": {{"type": "pinhole", "position": [0,0,-3], "look_at": [0,0,0], "fov_deg": 40}},
+                "film": {{"width": 8, "height": 8}}, "materials": {{"m": {{"type": "diffuse", "color": [1,1,1]}}}}, {shapes}}}"#
+        );
+        let file: SceneFile = serde_json::from_str(&json).unwrap();
+        let e = Scene::build(file, Path::new("."), "t.json").unwrap_err().to_string();
+        assert!(e.contains(field), "{e}");
+    }
+    let e = serde_json::from_str::<SceneFile>(r#"{"camera": {"type": "pinhole", "fov": 40}}"#).unwrap_err().to_string();
+    assert!(e.contains("unknown field `fov`"), "{e}");
+}

@@ -25,6 +25,12 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Instead of one render: render at 1, 2, 4, ... up to --spp samples per
+    /// pixel, time each and measure its RMSE against a reference of 4x --spp
+    /// samples; write a markdown report here, a plot beside it
+    /// (NAME-plot.svg and .png) and the reference image as the output.
+    #[arg(long, value_name = "OUT.md")]
+    report: Option<PathBuf>,
 }
 
 pub fn run(a: Args) -> CmdResult {
@@ -48,6 +54,10 @@ pub fn run(a: Args) -> CmdResult {
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
+    if let Some(md) = &a.report {
+        bar.finish_and_clear();
+        return report(&a, &scene, spp, &pool, md);
+    }
     let t = Instant::now();
     let (image, stats) = pool.install(|| render(&scene, Options { spp, seed: a.seed }, &|_| bar.inc(1)));
     bar.finish_and_clear();
@@ -62,5 +72,65 @@ pub fn run(a: Args) -> CmdResult {
         image.height,
         100.0 * stats.pass_rate()
     );
+    Ok(ExitCode::SUCCESS)
+}
+
+fn report(a: &Args, scene: &Scene, spp: u32, pool: &rayon::ThreadPool, md: &std::path::Path) -> CmdResult {
+    let mut spps = vec![];
+    let mut k = 1;
+    while k <= spp {
+        spps.push(k);
+        k *= 2;
+    }
+    let r = pool.install(|| ::render::report::error_against_time(scene, &spps, spp * 4, a.seed));
+    r.reference.save(&a.output, scene.film.exposure)?;
+    let mut out = String::new();
+    use std::fmt::Write;
+    let _ = writeln!(out, "# Error against run time: {}\n", a.scene.display());
+    let _ = writeln!(
+        out,
+        "{} x {} pixels, {} threads; reference: {} spp (another seed) in {:.2} s.\n",
+        scene.film.width,
+        scene.film.height,
+        pool.current_num_threads(),
+        r.reference_spp,
+        r.reference_seconds
+    );
+    let _ = writeln!(out, "| spp | time (s) | RMSE | RMSE x sqrt(time) | camera rays through the lens |");
+    let _ = writeln!(out, "|---:|---:|---:|---:|---:|");
+    for row in &r.rows {
+        let _ = writeln!(
+            out,
+            "| {} | {:.3} | {:.5} | {:.5} | {:.1}% |",
+            row.spp,
+            row.seconds,
+            row.rmse,
+            row.rmse * row.seconds.sqrt(),
+            100.0 * row.pass_rate
+        );
+    }
+    let _ = writeln!(out, "\nRMSE x sqrt(time) is the cost of a given error: lower is cheaper; it is constant where the error falls as 1/sqrt(samples).");
+    std::fs::write(md, &out).map_err(|e| format!("{}: {e}", md.display()))?;
+    let pts: Vec<(f64, f64)> =
+        r.rows.iter().map(|x| (x.seconds.max(1e-6).log10(), x.rmse.max(1e-12).log10())).collect();
+    let panel = plot::figure::Panel {
+        title: format!("{}", a.scene.display()),
+        x_label: "log10 time (s)".into(),
+        y_label: "log10 RMSE".into(),
+        series: vec![plot::figure::Series::new("render", pts, plot::figure::PALETTE[0], plot::figure::Style::Line)],
+        ..Default::default()
+    };
+    let svg = plot::figure::Figure {
+        title: "Error against run time".into(),
+        panels: vec![panel],
+        columns: 1,
+        panel_size: (560.0, 380.0),
+    }
+    .to_svg();
+    let stem = md.file_stem().and_then(|s| s.to_str()).unwrap_or("report");
+    for ext in ["svg", "png"] {
+        plot::save(&svg, &md.with_file_name(format!("{stem}-plot.{ext}")))?;
+    }
+    eprint!("{out}");
     Ok(ExitCode::SUCCESS)
 }

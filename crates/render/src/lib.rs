@@ -19,6 +19,7 @@ pub mod light;
 pub mod material;
 pub mod mesh;
 pub mod renderer;
+pub mod report;
 pub mod rng;
 pub mod scene;
 

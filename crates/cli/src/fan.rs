@@ -1,54 +1,26 @@
 //! `lens fan`: tangential and sagittal ray fans at one field.
 
-use crate::analysis_args::{plane, AimArg};
+use crate::analysis_args::{plane, FieldArgs};
 use crate::{load, print_json, CmdResult};
 use lens::analysis::{fan::ray_fan, Field};
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Prescription file (.json or pbrt .dat).
-    file: PathBuf,
-    /// Field angle in degrees (object at infinity).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, default_value_t = 0.0)]
-    field_deg: f64,
+    #[command(flatten)]
+    f: FieldArgs,
     /// Points per fan, evenly spaced on [-1, 1] (odd includes 0).
     #[arg(long, default_value_t = 21)]
     points: usize,
-    /// How pupil coordinates become rays.
-    #[arg(long, value_enum, default_value_t = AimArg::Paraxial)]
-    aim: AimArg,
-    /// Evaluate on a film this many mm behind the last vertex instead of the
-    /// paraxial image plane.
-    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
-    film: Option<f64>,
-    /// Resize the stop to this f-number first.
-    #[arg(long, value_name = "N")]
-    f_number: Option<f64>,
-    /// Print JSON.
-    #[arg(long)]
-    json: bool,
-    /// Write a plot (.svg or .png).
-    #[arg(long, value_name = "OUT")]
-    plot: Option<PathBuf>,
-    /// Plot these field angles (degrees, comma-separated) instead of
-    /// --field-deg alone.
-    #[arg(long, value_name = "DEG,DEG", value_parser = crate::analysis_args::parse_list)]
-    plot_fields: Option<std::vec::Vec<f64>>,
 }
 
-pub fn run(a: Args) -> CmdResult {
+pub fn run(args: Args) -> CmdResult {
+    let a = &args.f;
     let p = load(&a.file, a.f_number)?;
-    let fan = ray_fan(&p, Field::Angle(a.field_deg), a.points, a.aim.into(), plane(a.film))?;
+    let fan_at = |deg: f64| ray_fan(&p, Field::Angle(deg), args.points, a.aim.into(), plane(a.film));
+    let fan = fan_at(a.field_deg)?;
     if let Some(out) = &a.plot {
-        let fans = match &a.plot_fields {
-            Some(fields) => fields
-                .iter()
-                .map(|&d| ray_fan(&p, Field::Angle(d), a.points, a.aim.into(), plane(a.film)))
-                .collect::<Result<Vec<_>, _>>()?,
-            None => vec![fan.clone()],
-        };
+        let fans = a.plotted_fields().into_iter().map(fan_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::fan::fan_chart(&fans, p.name()), out)?;
     }
     if a.json {

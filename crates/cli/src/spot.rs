@@ -1,11 +1,10 @@
 //! `lens spot`: spot diagram statistics at one field.
 
-use crate::analysis_args::{plane, AimArg};
+use crate::analysis_args::{plane, FieldArgs};
 use crate::{load, print_json, CmdResult};
 use lens::analysis::pattern::Pattern;
 use lens::analysis::{spot::spot_diagram, Field};
 use serde_json::json;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
@@ -20,54 +19,28 @@ pub enum PatternArg {
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Prescription file (.json or pbrt .dat).
-    file: PathBuf,
-    /// Field angle in degrees (object at infinity).
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true, default_value_t = 0.0)]
-    field_deg: f64,
+    #[command(flatten)]
+    f: FieldArgs,
     /// Pupil pattern.
     #[arg(long, value_enum, default_value_t = PatternArg::Hexapolar)]
     pattern: PatternArg,
     /// Grid width (square), ring count (hexapolar) or ray count (random).
     #[arg(long, default_value_t = 12)]
     n: usize,
-    /// How pupil coordinates become rays.
-    #[arg(long, value_enum, default_value_t = AimArg::Paraxial)]
-    aim: AimArg,
-    /// Evaluate on a film this many mm behind the last vertex.
-    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
-    film: Option<f64>,
-    /// Resize the stop to this f-number first.
-    #[arg(long, value_name = "N")]
-    f_number: Option<f64>,
-    /// Print JSON.
-    #[arg(long)]
-    json: bool,
-    /// Write a plot (.svg or .png).
-    #[arg(long, value_name = "OUT")]
-    plot: Option<PathBuf>,
-    /// Plot these field angles (degrees, comma-separated) instead of
-    /// --field-deg alone.
-    #[arg(long, value_name = "DEG,DEG", value_parser = crate::analysis_args::parse_list)]
-    plot_fields: Option<std::vec::Vec<f64>>,
 }
 
-pub fn run(a: Args) -> CmdResult {
+pub fn run(args: Args) -> CmdResult {
+    let a = &args.f;
     let p = load(&a.file, a.f_number)?;
-    let pattern = match a.pattern {
+    let pattern = match args.pattern {
         PatternArg::Square => Pattern::Square,
         PatternArg::Hexapolar => Pattern::Hexapolar,
         PatternArg::Random => Pattern::Random,
     };
-    let s = spot_diagram(&p, Field::Angle(a.field_deg), pattern, a.n, a.aim.into(), plane(a.film))?;
+    let spot_at = |deg: f64| spot_diagram(&p, Field::Angle(deg), pattern, args.n, a.aim.into(), plane(a.film));
+    let s = spot_at(a.field_deg)?;
     if let Some(out) = &a.plot {
-        let spots = match &a.plot_fields {
-            Some(fields) => fields
-                .iter()
-                .map(|&d| spot_diagram(&p, Field::Angle(d), pattern, a.n, a.aim.into(), plane(a.film)))
-                .collect::<Result<Vec<_>, _>>()?,
-            None => vec![s.clone()],
-        };
+        let spots = a.plotted_fields().into_iter().map(spot_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::spot::spot_chart(&spots, p.name()), out)?;
     }
     if a.json {

@@ -195,29 +195,26 @@ impl Tracer {
 
     /// Traces one ray (global frame) and classifies how it ended.
     pub fn trace(&self, ray: Ray) -> Outcome {
-        let mut l = Lane {
-            px: ray.origin.x,
-            py: ray.origin.y,
-            pz: ray.origin.z,
-            dx: ray.direction.x,
-            dy: ray.direction.y,
-            dz: ray.direction.z,
-            opl: 0.0,
-        };
-        for (k, s) in self.steps.iter().enumerate() {
-            let (next, kind) = if s.refract { step_lane::<true>(s, l) } else { step_lane::<false>(s, l) };
-            l = next;
-            if kind != PASSED {
-                return self.outcome(l, k, kind);
-            }
-        }
-        self.outcome(l, self.steps.len() - 1, PASSED)
+        self.walk(ray, |_, _, _| {})
     }
 
     /// Traces one ray and also returns the global point where it met each
     /// surface (and the film), in order, up to where it stopped: the path a
     /// layout drawing shows. The outcome is that of [`Self::trace`].
     pub fn trace_path(&self, ray: Ray) -> (Vec<DVec3>, Outcome) {
+        let mut path = vec![ray.origin];
+        let outcome = self.walk(ray, |s, l, kind| {
+            if kind != MISSED {
+                path.push(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
+            }
+        });
+        (path, outcome)
+    }
+
+    /// Carries `ray` step by step until it stops, showing `visit` each
+    /// step's result.
+    #[inline(always)]
+    fn walk(&self, ray: Ray, mut visit: impl FnMut(&Step, &Lane, u64)) -> Outcome {
         let mut l = Lane {
             px: ray.origin.x,
             py: ray.origin.y,
@@ -227,18 +224,15 @@ impl Tracer {
             dz: ray.direction.z,
             opl: 0.0,
         };
-        let mut path = vec![ray.origin];
         for (k, s) in self.steps.iter().enumerate() {
             let (next, kind) = if s.refract { step_lane::<true>(s, l) } else { step_lane::<false>(s, l) };
             l = next;
-            if kind != MISSED {
-                path.push(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
-            }
+            visit(s, &l, kind);
             if kind != PASSED {
-                return (path, self.outcome(l, k, kind));
+                return self.outcome(l, k, kind);
             }
         }
-        (path, self.outcome(l, self.steps.len() - 1, PASSED))
+        self.outcome(l, self.steps.len() - 1, PASSED)
     }
 
     /// Builds the outcome of a ray whose state `l` is in the frame of step `k`.

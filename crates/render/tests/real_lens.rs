@@ -1,5 +1,7 @@
 //! The real-lens camera against the lens crate's own predictions.
 
+mod common;
+use common::moments;
 use glam::DVec3;
 use lens::paraxial::FirstOrder;
 use render::scene::format::SceneFile;
@@ -13,29 +15,6 @@ fn data() -> std::path::PathBuf {
 fn scene(json: &str) -> Scene {
     let file: SceneFile = serde_json::from_str(json).unwrap();
     Scene::build(file, &data(), "<test>").unwrap()
-}
-
-/// Intensity-weighted centroid (pixels) and RMS radius about it.
-fn moments(img: &Image) -> (f64, f64, f64) {
-    let (mut w, mut cx, mut cy) = (0.0, 0.0, 0.0);
-    for (i, p) in img.pixels.iter().enumerate() {
-        let (x, y) = ((i % img.width) as f64 + 0.5, (i / img.width) as f64 + 0.5);
-        w += p.x;
-        cx += p.x * x;
-        cy += p.x * y;
-    }
-    let (cx, cy) = (cx / w, cy / w);
-    let m2: f64 = img
-        .pixels
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let (x, y) = ((i % img.width) as f64 + 0.5 - cx, (i / img.width) as f64 + 0.5 - cy);
-            p.x * (x * x + y * y)
-        })
-        .sum::<f64>()
-        / w;
-    (cx, cy, m2.sqrt())
 }
 
 fn lamp_scene(camera: &str, lamp: DVec3, radius: f64, size: usize) -> Scene {

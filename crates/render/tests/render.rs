@@ -1,5 +1,7 @@
 //! Renders with known answers.
 
+mod common;
+use common::disk_diameter;
 use glam::DVec3;
 use render::scene::format::SceneFile;
 use render::{render, Image, Options, Scene};
@@ -66,32 +68,6 @@ fn renders_are_deterministic_across_thread_counts() {
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| run(&s, 4));
     let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| run(&s, 4));
     assert_eq!(one, two);
-}
-
-/// Diameter in pixels of a uniform bright disk from the intensity-weighted
-/// second moment about its centroid (E[r^2] = D^2 / 8), which noise and
-/// sparse sampling do not bias; `spread` is the diameter of what is blurred
-/// (a lamp's own image), removed in quadrature.
-fn disk_diameter(img: &Image, spread: f64) -> f64 {
-    let (mut w, mut cx, mut cy) = (0.0, 0.0, 0.0);
-    for (i, p) in img.pixels.iter().enumerate() {
-        let (x, y) = ((i % img.width) as f64 + 0.5, (i / img.width) as f64 + 0.5);
-        w += p.x;
-        cx += p.x * x;
-        cy += p.x * y;
-    }
-    let (cx, cy) = (cx / w, cy / w);
-    let m2 = img
-        .pixels
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            let (x, y) = ((i % img.width) as f64 + 0.5 - cx, (i / img.width) as f64 + 0.5 - cy);
-            p.x * (x * x + y * y)
-        })
-        .sum::<f64>()
-        / w;
-    (8.0 * m2 - spread * spread).max(0.0).sqrt()
 }
 
 #[test]

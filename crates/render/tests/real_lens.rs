@@ -5,7 +5,7 @@ use common::moments;
 use glam::DVec3;
 use lens::paraxial::FirstOrder;
 use render::scene::format::SceneFile;
-use render::{render, Image, Options, Scene};
+use render::{render, Options, Scene};
 use std::path::Path;
 
 fn data() -> std::path::PathBuf {

@@ -126,3 +126,60 @@ fn bad_scenes_get_errors_naming_the_field() {
     let e = serde_json::from_str::<SceneFile>(r#"{"camera": {"type": "pinhole", "fov": 40}}"#).unwrap_err().to_string();
     assert!(e.contains("unknown field `fov`"), "{e}");
 }
+
+#[cfg(feature = "exr")]
+#[test]
+fn environment_map_is_seen_by_the_camera_and_lights_a_furnace() {
+    // a 64 x 32 equirectangular map: 0.7 everywhere, 3.0 in the 2 x 2 texels
+    // around +z at the horizon (the image centre)
+    let (w, h) = (64, 32);
+    let mut px = vec![DVec3::splat(0.7); w * h];
+    for (y, x) in [(h / 2 - 1, w / 2 - 1), (h / 2 - 1, w / 2), (h / 2, w / 2 - 1), (h / 2, w / 2)] {
+        px[y * w + x] = DVec3::splat(3.0);
+    }
+    let env = Image { width: w, height: h, pixels: px };
+    let dir = std::env::temp_dir().join(format!("render-env-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    env.save(&dir.join("env.exr"), 1.0).unwrap();
+    let json = r#"{"camera": {"type": "pinhole", "position": [0,0,-3], "look_at": [0,0,0], "fov_deg": 40},
+        "film": {"width": 16, "height": 16, "spp": 4},
+        "background": {"type": "environment", "exr": "env.exr", "intensity": 2.0},
+        "materials": {"m": {"type": "diffuse", "color": [1, 1, 1]}},
+        "shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "m"}]}"#;
+    let s = Scene::build(serde_json::from_str(json).unwrap(), &dir, "<env>").unwrap();
+    let img = run(&s, 64);
+    // a white diffuse sphere in a (nearly) uniform environment of 1.4
+    let corner = img.pixels[0];
+    assert!((corner.x - 1.4).abs() < 1e-6, "{corner}"); // stored as f32
+    let centre = img.pixels[8 * 16 + 8];
+    assert!((centre.x - 1.4).abs() < 0.05, "{centre}");
+    // looking straight at the bright texel
+    let json2 = json
+        .replace(
+            r#""shapes": [{"type": "sphere", "center": [0,0,0], "radius": 1, "material": "m"}]"#,
+            r#""shapes": []"#,
+        )
+        .replace(r#""fov_deg": 40"#, r#""fov_deg": 1"#);
+    let s2 = Scene::build(serde_json::from_str(&json2).unwrap(), &dir, "<env>").unwrap();
+    let img2 = run(&s2, 1);
+    assert!((img2.pixels[8 * 16 + 8].x - 6.0).abs() < 1e-6, "{}", img2.pixels[8 * 16 + 8]);
+    let missing = json.replace("env.exr", "nope.exr");
+    let e = Scene::build(serde_json::from_str(&missing).unwrap(), &dir, "<env>").unwrap_err().to_string();
+    assert!(e.contains("background.exr"), "{e}");
+}
+
+#[test]
+fn aperture_masks_sample_where_they_transmit() {
+    use render::camera::aperture::Mask;
+    // left half transmits fully, right half a quarter
+    let (w, h) = (8, 4);
+    let values = (0..w * h).map(|i| if i % w < w / 2 { 1.0 } else { 0.25 }).collect();
+    let m = Mask::new(w, h, values).unwrap();
+    let n = 4000;
+    let left = (0..n).filter(|k| m.sample(((*k as f64 + 0.5) / n as f64, 0.5)).0 < 0.0).count() as f64 / n as f64;
+    assert!((left - 0.8).abs() < 0.01, "{left}");
+    assert!(Mask::new(2, 2, vec![0.0; 4]).is_err());
+    // the shipped star renders: a bokeh scene with a mask builds
+    let _ = Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/scenes/bokeh-thin-star.json"))
+        .unwrap();
+}

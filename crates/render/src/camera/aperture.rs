@@ -2,7 +2,60 @@
 
 use crate::scene::format::ApertureSpec;
 
-/// A shape inscribed in the unit circle.
+/// A grey-scale transmission image over [-1, 1]^2, sampled in proportion to
+/// its transmission.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Mask {
+    width: usize,
+    height: usize,
+    /// Transmission in [0, 1], row-major from the top.
+    values: Vec<f64>,
+    /// Cumulative transmission, for sampling a pixel.
+    cdf: Vec<f64>,
+}
+
+impl Mask {
+    /// From transmission values (row-major from the top). Errors when the
+    /// image transmits nothing.
+    pub fn new(width: usize, height: usize, values: Vec<f64>) -> Result<Self, String> {
+        let mut cdf = Vec::with_capacity(values.len());
+        let mut acc = 0.0;
+        for v in &values {
+            acc += v.clamp(0.0, 1.0);
+            cdf.push(acc);
+        }
+        if width == 0 || height == 0 || acc <= 0.0 {
+            return Err("the aperture mask transmits nothing: give an image with some white".into());
+        }
+        Ok(Mask { width, height, values, cdf })
+    }
+
+    /// Transmission at (x, y) in [-1, 1]^2 (+y up).
+    pub fn at(&self, x: f64, y: f64) -> f64 {
+        if !(-1.0..1.0).contains(&x) || !(-1.0..1.0).contains(&y) {
+            return 0.0;
+        }
+        let i = (((x + 1.0) / 2.0) * self.width as f64) as usize;
+        let j = (((1.0 - y) / 2.0) * self.height as f64) as usize;
+        self.values[j.min(self.height - 1) * self.width + i.min(self.width - 1)].clamp(0.0, 1.0)
+    }
+
+    /// A point with density proportional to the transmission.
+    pub fn sample(&self, u: (f64, f64)) -> (f64, f64) {
+        let total = *self.cdf.last().unwrap_or(&1.0);
+        let target = u.0 * total;
+        let k = self.cdf.partition_point(|c| *c <= target).min(self.cdf.len() - 1);
+        let below = if k == 0 { 0.0 } else { self.cdf[k - 1] };
+        let width = (self.cdf[k] - below).max(f64::MIN_POSITIVE);
+        let fx = ((target - below) / width).clamp(0.0, 1.0);
+        let (i, j) = (k % self.width, k / self.width);
+        let x = -1.0 + 2.0 * (i as f64 + fx) / self.width as f64;
+        let y = 1.0 - 2.0 * (j as f64 + u.1) / self.height as f64;
+        (x, y)
+    }
+}
+
+/// A shape inscribed in the unit circle (or, for a mask, its square).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Aperture {
     /// The unit disc.
@@ -14,12 +67,16 @@ pub enum Aperture {
         /// Rotation, radians.
         rotation: f64,
     },
+    /// A grey-scale transmission image.
+    Mask(Box<Mask>),
 }
 
 impl Aperture {
-    /// From the scene spec; errors name the field.
-    pub fn from_spec(s: &ApertureSpec) -> Result<Self, String> {
+    /// From the scene spec; errors name the field. Mask images are read
+    /// relative to `dir`.
+    pub fn from_spec(s: &ApertureSpec, dir: &std::path::Path) -> Result<Self, String> {
         Ok(match *s {
+            ApertureSpec::Mask { ref image } => Aperture::Mask(Box::new(load_mask(&dir.join(image))?)),
             ApertureSpec::Circle => Aperture::Circle,
             ApertureSpec::Polygon { blades, rotation_deg } => {
                 if blades < 3 {
@@ -51,6 +108,7 @@ impl Aperture {
                 }
                 (s * a0.cos() + t * a1.cos(), s * a0.sin() + t * a1.sin())
             }
+            Aperture::Mask(ref m) => m.sample(u),
         }
     }
 
@@ -67,6 +125,22 @@ impl Aperture {
                     x * mid.cos() + y * mid.sin() <= apothem
                 })
             }
+            Aperture::Mask(ref m) => m.at(x, y) > 0.0,
+        }
+    }
+
+    /// Transmission at (x, y) (unit scale): 1 inside a circle or polygon,
+    /// the grey level of a mask.
+    pub fn transmission(&self, x: f64, y: f64) -> f64 {
+        match self {
+            Aperture::Mask(m) => m.at(x, y),
+            _ => {
+                if self.contains(x, y) {
+                    1.0
+                } else {
+                    0.0
+                }
+            }
         }
     }
 
@@ -78,6 +152,7 @@ impl Aperture {
                 let n = blades as f64;
                 0.5 * n * (std::f64::consts::TAU / n).sin()
             }
+            Aperture::Mask(ref m) => 4.0 * m.cdf.last().copied().unwrap_or(0.0) / m.values.len() as f64,
         }
     }
 }
@@ -94,4 +169,18 @@ pub fn concentric(u: (f64, f64)) -> (f64, f64) {
         (b, std::f64::consts::FRAC_PI_2 - std::f64::consts::FRAC_PI_4 * (a / b))
     };
     (r * phi.cos(), r * phi.sin())
+}
+
+/// Reads a grey-scale PNG mask (needs the `png` feature).
+#[cfg(feature = "png")]
+fn load_mask(path: &std::path::Path) -> Result<Mask, String> {
+    let img = image::open(path).map_err(|e| format!("{}: cannot read the mask: {e}", path.display()))?.to_luma8();
+    let (w, h) = (img.width() as usize, img.height() as usize);
+    let values = img.pixels().map(|p| p.0[0] as f64 / 255.0).collect();
+    Mask::new(w, h, values).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+#[cfg(not(feature = "png"))]
+fn load_mask(path: &std::path::Path) -> Result<Mask, String> {
+    Err(format!("{}: aperture masks need the render crate's `png` feature", path.display()))
 }

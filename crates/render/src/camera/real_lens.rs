@@ -155,18 +155,21 @@ impl RealLensCamera {
 
     /// Traces film point `f` toward rear-plane point `t` (lens frame, mm):
     /// the ray leaving the first surface, if it passes (and, for a shaped
-    /// aperture, lands inside the shape at the stop).
-    fn trace_lens(&self, f: DVec3, t: DVec3) -> Option<lens::Ray> {
+    /// aperture, lands inside the shape at the stop), with the shape's
+    /// transmission there (1 for circles and polygons, the grey level of a
+    /// mask).
+    fn trace_lens(&self, f: DVec3, t: DVec3) -> Option<(lens::Ray, f64)> {
         let ray = lens::Ray::new(f, t - f)?;
         if self.aperture == Aperture::Circle {
-            return self.tracer.trace(ray).reached();
+            return self.tracer.trace(ray).reached().map(|r| (r, 1.0));
         }
         let (path, outcome) = self.tracer.trace_path(ray);
         let out = outcome.reached()?;
         // path[0] is the start; surfaces are met from the last to the first
         let n = self.prescription.surfaces().len();
         let at_stop = path.get(n - self.stop)?;
-        self.aperture.contains(at_stop.x / self.stop_sd, at_stop.y / self.stop_sd).then_some(out)
+        let t = self.aperture.transmission(at_stop.x / self.stop_sd, at_stop.y / self.stop_sd);
+        (t > 0.0).then_some((out, t))
     }
 
     /// A lens-frame ray for film point (fx, fy) mm and aperture sample `a`,
@@ -188,11 +191,11 @@ impl RealLensCamera {
         let (c, s) = if r > 0.0 { (fx / r, fy / r) } else { (1.0, 0.0) };
         let target = DVec3::new(c * bx - s * by, s * bx + c * by, self.z_rear);
         let film = DVec3::new(fx, fy, self.z_film);
-        let out = self.trace_lens(film, target)?;
+        let (out, transmission) = self.trace_lens(film, target)?;
         let d = self.z_film - self.z_rear;
         let cos = (film - target).normalize().z.abs();
         let area = cells.len() as f64 * side * side;
-        Some((out, area * cos.powi(4) / (d * d)))
+        Some((out, transmission * area * cos.powi(4) / (d * d)))
     }
 
     /// The scene ray through film position (u, v) (v down) and its weight,

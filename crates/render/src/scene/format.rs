@@ -61,6 +61,12 @@ pub enum ApertureSpec {
         #[serde(default)]
         rotation_deg: f64,
     },
+    /// A grey-scale image (PNG, relative to the scene file) mapped onto the
+    /// square around the aperture circle: white transmits, black blocks.
+    Mask {
+        /// The image file.
+        image: String,
+    },
 }
 
 /// A camera. (Pose fields are repeated in each variant rather than
@@ -185,6 +191,15 @@ pub enum BackgroundSpec {
     Constant {
         /// Radiance.
         radiance: Rgb,
+    },
+    /// An equirectangular (latitude-longitude) OpenEXR environment:
+    /// +y up, the image centre toward +z.
+    Environment {
+        /// The EXR file, relative to the scene file.
+        exr: String,
+        /// Radiance multiplier.
+        #[serde(default = "one")]
+        intensity: f64,
     },
     /// A gradient from the horizon to the zenith (below the horizon:
     /// `ground`).

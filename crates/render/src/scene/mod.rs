@@ -52,6 +52,8 @@ pub enum SceneError {
 pub enum Background {
     /// Uniform.
     Constant(DVec3),
+    /// Equirectangular environment image (already scaled by its intensity).
+    Environment(Box<crate::image::Image>),
     /// Gradient.
     Sky {
         /// Horizon.
@@ -68,6 +70,14 @@ impl Background {
     pub fn radiance(&self, d: DVec3) -> DVec3 {
         match *self {
             Background::Constant(c) => c,
+            Background::Environment(ref img) => {
+                // longitude from +z toward +x, latitude from +y down
+                let u = 0.5 + d.x.atan2(d.z) / std::f64::consts::TAU;
+                let v = d.y.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
+                let x = ((u * img.width as f64) as usize).min(img.width - 1);
+                let y = ((v * img.height as f64) as usize).min(img.height - 1);
+                img.pixels[y * img.width + x]
+            }
             Background::Sky { horizon, zenith, ground } => {
                 if d.y < 0.0 {
                     ground
@@ -259,10 +269,20 @@ impl Scene {
             }
             point_lights.push((v3(*position), v3(*intensity)));
         }
-        let background = match file.background {
-            BackgroundSpec::Constant { radiance } => Background::Constant(v3(radiance)),
+        let background = match &file.background {
+            BackgroundSpec::Constant { radiance } => Background::Constant(v3(*radiance)),
+            BackgroundSpec::Environment { exr, intensity } => {
+                if !(intensity.is_finite() && *intensity >= 0.0) {
+                    return Err(bad("background.intensity".into(), "must be a finite number >= 0".into()));
+                }
+                let mut img = load_environment(&dir.join(exr)).map_err(|m| bad("background.exr".into(), m))?;
+                for p in &mut img.pixels {
+                    *p *= *intensity;
+                }
+                Background::Environment(Box::new(img))
+            }
             BackgroundSpec::Sky { horizon, zenith, ground } => {
-                Background::Sky { horizon: v3(horizon), zenith: v3(zenith), ground: v3(ground) }
+                Background::Sky { horizon: v3(*horizon), zenith: v3(*zenith), ground: v3(*ground) }
             }
         };
         let camera = build_camera(&file.camera, f, dir).map_err(|(field, message)| bad(field, message))?;
@@ -365,7 +385,7 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
                 aspect,
                 radius: diameter / 2.0,
                 focus: *focus_distance,
-                aperture: Aperture::from_spec(aperture_shape).map_err(|m| ("camera.aperture_shape".into(), m))?,
+                aperture: Aperture::from_spec(aperture_shape, dir).map_err(|m| ("camera.aperture_shape".into(), m))?,
                 focus_shift: *focus_shift,
             })
         }
@@ -389,10 +409,24 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
                     .with_stop_semi_diameter(*sd)
                     .map_err(|e| ("camera.stop_semi_diameter".to_string(), e.to_string()))?;
             }
-            let aperture = Aperture::from_spec(aperture_shape).map_err(|m| ("camera.aperture_shape".into(), m))?;
+            let aperture = Aperture::from_spec(aperture_shape, dir).map_err(|m| ("camera.aperture_shape".into(), m))?;
             let cam = RealLensCamera::new(pose(&c.pose())?, &lens, *focus_distance, *sensor_mm, aperture)
                 .map_err(|m| ("camera".to_string(), m))?;
             Ok(Camera::Real(Box::new(cam)))
         }
     }
+}
+
+#[cfg(feature = "exr")]
+fn load_environment(path: &Path) -> Result<crate::image::Image, String> {
+    let img = crate::image::Image::load_exr(path).map_err(|e| e.to_string())?;
+    if img.pixels.iter().any(|p| !p.is_finite() || p.min_element() < 0.0) {
+        return Err(format!("{}: the environment has negative or non-finite pixels", path.display()));
+    }
+    Ok(img)
+}
+
+#[cfg(not(feature = "exr"))]
+fn load_environment(path: &Path) -> Result<crate::image::Image, String> {
+    Err(format!("{}: environment maps need the render crate's `exr` feature", path.display()))
 }

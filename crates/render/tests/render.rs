@@ -183,3 +183,53 @@ fn aperture_masks_sample_where_they_transmit() {
     let _ = Scene::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/scenes/bokeh-thin-star.json"))
         .unwrap();
 }
+
+#[test]
+fn boxes_and_obj_meshes_are_hit() {
+    let dir = std::env::temp_dir().join(format!("render-obj-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // a unit square facing -z at z = 2, as a quad face of two triangles
+    std::fs::write(dir.join("sq.obj"), "v -1 -1 2\nv 1 -1 2\nv 1 1 2\nv -1 1 2\nf 1 2 3 4\n").unwrap();
+    let json = r#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 20},
+        "film": {"width": 8, "height": 8, "spp": 1},
+        "materials": {"e": {"type": "emissive", "radiance": [2, 2, 2]}, "b": {"type": "emissive", "radiance": [5, 5, 5]}},
+        "shapes": [{"type": "mesh", "obj": "sq.obj", "material": "e"},
+                   {"type": "box", "min": [-10, -10, 50], "max": [10, 10, 60], "material": "b"}]}"#;
+    let s = Scene::build(serde_json::from_str(json).unwrap(), &dir, "<obj>").unwrap();
+    let img = run(&s, 1);
+    // the mesh triangle winding faces +z (away from the camera): emission is
+    // one-sided, so the camera sees its back, black; turn it around
+    assert!(img.pixels.iter().all(|p| p.x == 0.0 || p.x == 2.0), "{:?}", img.pixels[27]);
+    std::fs::write(dir.join("sq.obj"), "v -1 -1 2\nv 1 -1 2\nv 1 1 2\nv -1 1 2\nf 4 3 2 1\n").unwrap();
+    let s = Scene::build(serde_json::from_str(json).unwrap(), &dir, "<obj>").unwrap();
+    let img = run(&s, 1);
+    assert!(img.pixels.iter().all(|p| (p.x - 2.0).abs() < 1e-12), "{:?}", img.pixels[27]);
+    // without the mesh the camera sees the box's front face (emitting outward)
+    let no_mesh = json.replace(r#"{"type": "mesh", "obj": "sq.obj", "material": "e"},"#, "");
+    let s = Scene::build(serde_json::from_str(&no_mesh).unwrap(), &dir, "<obj>").unwrap();
+    assert!(run(&s, 1).pixels.iter().all(|p| (p.x - 5.0).abs() < 1e-12));
+    std::fs::write(dir.join("bad.obj"), "v 0 0\n").unwrap();
+    let bad = json.replace("sq.obj", "bad.obj");
+    let e = Scene::build(serde_json::from_str(&bad).unwrap(), &dir, "<obj>").unwrap_err().to_string();
+    assert!(e.contains("shapes[0].obj") && e.contains("line 1"), "{e}");
+}
+
+#[test]
+fn thin_lens_focus_distance_with_a_focal_length_is_from_the_film() {
+    let json = |f: &str| {
+        format!(
+            r#"{{"camera": {{"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 20,
+               "f_number": 2, "focal_length_mm": 50, "focus_distance": {f}}},
+               "film": {{"width": 4, "height": 4}}}}"#
+        )
+    };
+    let s = scene(&json("2.0"));
+    let render::camera::Camera::ThinLens { focus, radius, .. } = s.camera else { panic!() };
+    // s + s' = 2 m with 1/s + 1/s' = 1/0.05
+    let s_img = 2.0 - focus;
+    assert!((1.0 / focus + 1.0 / s_img - 20.0).abs() < 1e-9, "{focus}");
+    assert!((radius - 0.0125).abs() < 1e-15);
+    let file: SceneFile = serde_json::from_str(&json("0.1")).unwrap();
+    let e = Scene::build(file, Path::new("."), "t").unwrap_err().to_string();
+    assert!(e.contains("camera.focus_distance"), "{e}");
+}

@@ -108,7 +108,10 @@ pub enum CameraSpec {
         /// Focal length, mm (with `f_number`).
         #[serde(default)]
         focal_length_mm: Option<f64>,
-        /// Distance from the lens to the plane in focus, m.
+        /// Distance from the film plane to the plane in focus, m. With
+        /// `focal_length_mm` the film sits at the image distance behind the
+        /// lens (1/s + 1/s' = 1/f); without it the model has no film
+        /// distance and this is measured from the lens.
         focus_distance: f64,
         /// Aperture shape.
         #[serde(default)]

@@ -330,6 +330,24 @@ impl Scene {
     }
 }
 
+/// The thin lens's distance to the plane in focus, from the distance `d`
+/// (m) measured from the film: with a focal length f, object and image
+/// distances s + s' = d and 1/s + 1/s' = 1/f give s = (d + sqrt(d (d - 4f))) / 2.
+fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<f64, (String, String)> {
+    let Some(f_mm) = focal_length_mm else { return Ok(d) };
+    let f = f_mm * 1e-3;
+    if !(f.is_finite() && f > 0.0) {
+        return Err(("camera.focal_length_mm".into(), "must be a positive focal length in mm".into()));
+    }
+    if d < 4.0 * f {
+        return Err((
+            "camera.focus_distance".into(),
+            format!("{d} m from the film: a {f_mm} mm thin lens cannot focus nearer than 4f = {} m", 4.0 * f),
+        ));
+    }
+    Ok(0.5 * (d + (d * (d - 4.0 * f)).sqrt()))
+}
+
 fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (String, String)> {
     let aspect = film.width as f64 / film.height as f64;
     let pose = |p: &Pose| -> Result<Frame, (String, String)> {
@@ -384,7 +402,7 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
                 tan_half: fov(*fov_deg)?,
                 aspect,
                 radius: diameter / 2.0,
-                focus: *focus_distance,
+                focus: lens_to_focus(*focus_distance, *focal_length_mm)?,
                 aperture: Aperture::from_spec(aperture_shape, dir).map_err(|m| ("camera.aperture_shape".into(), m))?,
                 focus_shift: *focus_shift,
             })

@@ -184,7 +184,7 @@ impl Tracer {
     /// returns the chunk that holds the result, in the global frame.
     fn trace_chunk<'c>(&self, a: &'c mut Chunk, b: &'c mut Chunk, m: usize) -> &'c mut Chunk {
         #[cfg(target_arch = "x86_64")]
-        let avx2 = std::arch::is_x86_feature_detected!("avx2");
+        let avx2 = crate::trace::simd_fma();
         let (mut src, mut dst) = (a, b);
         for (k, s) in self.steps.iter().enumerate() {
             let code = ((k as u64) + 1) << 2;
@@ -219,9 +219,10 @@ impl Tracer {
     }
 }
 
-/// [`step_chunk`] compiled for AVX2 (4 f64 lanes), chosen at run time.
+/// [`step_chunk`] compiled for AVX2 (4 f64 lanes) and hardware fused
+/// multiply-add, chosen at run time.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
+#[target_feature(enable = "avx2,fma")]
 fn step_chunk_avx2<const REFRACT: bool>(s: &Step, code: u64, src: &Chunk, dst: &mut Chunk, m: usize) {
     step_chunk::<REFRACT>(s, code, src, dst, m)
 }

@@ -47,21 +47,21 @@ pub(crate) struct LaneHit {
 #[inline(always)]
 pub(crate) fn intersect_lanes(c: f64, px: f64, py: f64, pz: f64, dx: f64, dy: f64, dz: f64) -> LaneHit {
     // 1. closest approach to the vertex
-    let t0 = -(px * dx + py * dy + pz * dz);
-    let x0 = px + t0 * dx;
-    let y0 = py + t0 * dy;
-    let z0 = pz + t0 * dz;
+    let t0 = -pz.mul_add(dz, px.mul_add(dx, py * dy));
+    let x0 = t0.mul_add(dx, px);
+    let y0 = t0.mul_add(dy, py);
+    let z0 = t0.mul_add(dz, pz);
     // 2. F and G
-    let f = c * (x0 * x0 + y0 * y0 + z0 * z0) - 2.0 * z0;
-    let g = dz - c * (x0 * dx + y0 * dy + z0 * dz);
+    let f = c.mul_add(z0.mul_add(z0, x0.mul_add(x0, y0 * y0)), -2.0 * z0);
+    let g = (-c).mul_add(z0.mul_add(dz, x0.mul_add(dx, y0 * dy)), dz);
     // 3. discriminant
-    let disc = g * g - c * f;
+    let disc = g.mul_add(g, -c * f);
     // 4. rationalised root, no cancellation
     let den = g + f64::copysign(disc.max(0.0).sqrt(), g);
     let t1 = f / den;
-    let x = x0 + t1 * dx;
-    let y = y0 + t1 * dy;
-    let z = z0 + t1 * dz;
+    let x = t1.mul_add(dx, x0);
+    let y = t1.mul_add(dy, y0);
+    let z = t1.mul_add(dz, z0);
     // 5. on the cap around the vertex, not the far side
     let ok = disc >= 0.0 && t1.is_finite() && 1.0 - c * z > 0.0;
     LaneHit { t: t0 + t1, x, y, z, ok }

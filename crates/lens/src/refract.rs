@@ -34,11 +34,11 @@ pub(crate) struct LaneDir {
 /// tracers. `mu = n1 / n2`.
 #[inline(always)]
 pub(crate) fn refract_lanes(dx: f64, dy: f64, dz: f64, nx: f64, ny: f64, nz: f64, mu: f64) -> LaneDir {
-    let cos_raw = dx * nx + dy * ny + dz * nz;
+    let cos_raw = dz.mul_add(nz, dx.mul_add(nx, dy * ny));
     // orient the normal along the ray
     let sign = if cos_raw < 0.0 { -1.0 } else { 1.0 };
     let cos_i = cos_raw * sign;
-    let k = 1.0 - mu * mu * (1.0 - cos_i * cos_i);
-    let g = (k.max(0.0).sqrt() - mu * cos_i) * sign;
-    LaneDir { x: mu * dx + g * nx, y: mu * dy + g * ny, z: mu * dz + g * nz, ok: k >= 0.0 }
+    let k = (-mu * mu).mul_add((-cos_i).mul_add(cos_i, 1.0), 1.0);
+    let g = (-mu).mul_add(cos_i, k.max(0.0).sqrt()) * sign;
+    LaneDir { x: mu.mul_add(dx, g * nx), y: mu.mul_add(dy, g * ny), z: mu.mul_add(dz, g * nz), ok: k >= 0.0 }
 }

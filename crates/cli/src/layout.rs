@@ -28,6 +28,9 @@ pub struct Args {
 
 pub fn run(a: Args) -> CmdResult {
     let p = load(&a.file, a.f_number)?;
+    if a.rays > 1000 || a.fields.len() > 100 {
+        return Err("--rays is at most 1000 per field and --fields at most 100 angles".into());
+    }
     let svg = plot::layout::layout_chart(&p, &a.fields, a.rays, a.aim.into());
     plot::save(&svg, &a.output)?;
     Ok(ExitCode::SUCCESS)

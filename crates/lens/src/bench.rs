@@ -10,6 +10,9 @@ use crate::trace::Tracer;
 use glam::DVec3;
 use std::time::{Duration, Instant};
 
+/// Most rays a workload holds.
+pub const MAX_RAYS: usize = 20_000_000;
+
 /// Largest field angle of the workload, degrees.
 pub const MAX_FIELD_DEG: f64 = 10.0;
 
@@ -45,6 +48,13 @@ pub struct Measurement {
 impl Workload {
     /// Builds the workload of `n` rays.
     pub fn new(p: &Prescription, n: usize) -> Result<Self, OpticsError> {
+        if n == 0 || n > MAX_RAYS {
+            return Err(OpticsError::BadInput {
+                name: "rays",
+                value: n as f64,
+                expected: "between 1 and 20 million rays (64 bytes each)",
+            });
+        }
         let f = FirstOrder::of(p)?;
         let ep = f.entrance_pupil;
         let r_ep = ep.diameter / 2.0;

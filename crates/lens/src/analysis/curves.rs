@@ -90,6 +90,9 @@ pub fn field_curves(
         }
         None => largest_field(p, &tracer, aim),
     };
+    if n > 10_000 {
+        return Err(OpticsError::BadInput { name: "fields", value: n as f64, expected: "at most 10000 fields" });
+    }
     let n = n.max(2);
     let on_axis = vignetting(p, &tracer, 0.0, aim)?;
     let mut fields = Vec::with_capacity(n);

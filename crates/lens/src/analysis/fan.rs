@@ -91,6 +91,13 @@ pub fn fan_coordinates(n: usize) -> Vec<f64> {
 
 /// Traces the tangential and sagittal fans of `n` points at `field`.
 pub fn ray_fan(p: &Prescription, field: Field, n: usize, aim: Aim, plane: ImagePlane) -> Result<RayFan, OpticsError> {
+    if n > 1_000_001 {
+        return Err(OpticsError::BadInput {
+            name: "points",
+            value: n as f64,
+            expected: "at most 1000001 points per fan",
+        });
+    }
     let launcher = Launcher::new(p, field, aim)?;
     let image_z = plane.z(p, &launcher)?;
     let tracer = Tracer::forward_to_film(p, image_z - p.last_vertex_z());

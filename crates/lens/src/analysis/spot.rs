@@ -12,6 +12,9 @@ use crate::ray::Outcome;
 use crate::trace::Tracer;
 use serde::Serialize;
 
+/// Most rays a spot diagram traces (a bound on memory, not on accuracy).
+pub const MAX_RAYS: usize = 50_000_000;
+
 /// A spot diagram at one field. Lengths in mm, on the image plane.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SpotDiagram {
@@ -92,6 +95,18 @@ pub fn spot_diagram(
     aim: Aim,
     plane: ImagePlane,
 ) -> Result<SpotDiagram, OpticsError> {
+    let count = match pattern {
+        Pattern::Square => (n as f64) * (n as f64),
+        Pattern::Hexapolar => 1.0 + 3.0 * (n as f64) * (n as f64 + 1.0),
+        Pattern::Random => n as f64,
+    };
+    if count > MAX_RAYS as f64 {
+        return Err(OpticsError::BadInput {
+            name: "pattern size n",
+            value: n as f64,
+            expected: "a pattern of at most 50 million rays (square n <= 7071, hexapolar n <= 4081)",
+        });
+    }
     let launcher = Launcher::new(p, field, aim)?;
     let image_z = plane.z(p, &launcher)?;
     let tracer = Tracer::forward_to_film(p, image_z - p.last_vertex_z());

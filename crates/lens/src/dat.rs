@@ -26,7 +26,10 @@ pub fn parse_dat(text: &str, origin: &str) -> Result<PrescriptionSpec, LoadError
         let line = raw.trim();
         if let Some(c) = line.strip_prefix('#') {
             let c = c.trim().trim_matches('"').trim();
-            if !c.is_empty() {
+            // the column header ("radius axpos N aperture") is not a comment
+            let lower = c.to_ascii_lowercase();
+            let header = lower.contains("radius") && lower.contains("aperture");
+            if !c.is_empty() && !header {
                 comments.push(c.to_string());
             }
             continue;

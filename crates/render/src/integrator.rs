@@ -28,7 +28,9 @@ pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
         };
         let mat = &scene.materials[scene.material_of[prim]];
         if let Material::Emissive { .. } = mat {
-            if count_emission {
+            // emitters that light sampling cannot pick (infinite planes) are
+            // counted whenever a path finds them
+            if count_emission || !scene.light_sampled(prim) {
                 l += beta * mat.emitted(-ray.dir.dot(h.n));
             }
             break;

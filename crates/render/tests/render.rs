@@ -233,3 +233,21 @@ fn thin_lens_focus_distance_with_a_focal_length_is_from_the_film() {
     let e = Scene::build(file, Path::new("."), "t").unwrap_err().to_string();
     assert!(e.contains("camera.focus_distance"), "{e}");
 }
+
+#[test]
+fn an_emissive_plane_lights_diffuse_surfaces_through_bounces() {
+    // a diffuse white floor under an emissive ceiling plane (radiance 1) and
+    // nothing else: looking down at the floor, every path ends on the
+    // ceiling after one bounce, so the floor's radiance is albedo x 1.
+    let s = scene(
+        r#"{"camera": {"type": "pinhole", "position": [0,1,0], "look_at": [0,0,0.001], "fov_deg": 30},
+            "film": {"width": 8, "height": 8, "spp": 64},
+            "materials": {"w": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}, "e": {"type": "emissive", "radiance": [1, 1, 1]}},
+            "shapes": [{"type": "plane", "point": [0,0,0], "normal": [0,1,0], "material": "w"},
+                       {"type": "plane", "point": [0,2,0], "normal": [0,-1,0], "material": "e"}]}"#,
+    );
+    let img = run(&s, 64);
+    for p in &img.pixels {
+        assert!((p.x - 0.5).abs() < 1e-9, "{p}");
+    }
+}

@@ -321,6 +321,12 @@ impl Scene {
         best
     }
 
+    /// Whether primitive `i` is an area light that direct light sampling
+    /// picks (bounded and emissive).
+    pub fn light_sampled(&self, i: usize) -> bool {
+        self.emitters.binary_search(&i).is_ok()
+    }
+
     /// Whether the segment from `a` to `b` is unobstructed.
     pub fn visible(&self, a: DVec3, b: DVec3) -> bool {
         let d = b - a;

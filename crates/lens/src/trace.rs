@@ -190,6 +190,18 @@ impl Tracer {
         Tracer { steps, direction: Direction::ImageToObject }
     }
 
+    /// Object space to the stop surface, with no clear aperture clipping:
+    /// the outcome `Reached` holds the ray at its hit on the stop surface.
+    /// Used to aim real rays at the stop.
+    pub fn to_stop_unclipped(p: &Prescription) -> Tracer {
+        let mut t = Tracer::forward(p);
+        t.steps.truncate(p.stop_index() + 1);
+        for s in &mut t.steps {
+            s.sd2 = f64::INFINITY;
+        }
+        t
+    }
+
     /// Direction of travel.
     pub fn direction(&self) -> Direction {
         self.direction

@@ -2,7 +2,7 @@
 //! estimation) on diffuse surfaces and Russian roulette.
 
 use crate::geometry::{Ray, EPS};
-use crate::light::{max_component, sample_shape};
+use crate::light::sample_shape;
 use crate::material::{cosine_hemisphere, Material, Scatter};
 use crate::rng::Sampler;
 use crate::scene::Scene;
@@ -57,7 +57,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
             }
         }
         if depth >= RR_DEPTH {
-            let q = max_component(beta).min(0.95);
+            let q = beta.max_element().min(0.95);
             if q <= 0.0 || s.uniform() >= q {
                 break;
             }

@@ -28,8 +28,3 @@ pub fn sample_shape(s: &Shape, sampler: &mut Sampler) -> Option<(DVec3, DVec3, f
         Shape::Plane { .. } => None,
     }
 }
-
-/// Luminance-like weight used by Russian roulette.
-pub fn max_component(c: DVec3) -> f64 {
-    c.max_element()
-}

@@ -261,17 +261,3 @@ impl Launcher {
         Ok(p.last_vertex_z() + img.image_distance)
     }
 }
-
-impl Tracer {
-    /// Object space to the stop surface, with no clear aperture clipping:
-    /// the outcome `Reached` holds the ray at its hit on the stop surface.
-    /// Used to aim real rays at the stop.
-    pub fn to_stop_unclipped(p: &Prescription) -> Tracer {
-        let mut t = Tracer::forward(p);
-        t.steps.truncate(p.stop_index() + 1);
-        for s in &mut t.steps {
-            s.sd2 = f64::INFINITY;
-        }
-        t
-    }
-}

@@ -254,6 +254,28 @@ impl Tracer {
         (path, outcome)
     }
 
+    /// Traces one ray and also returns where it met surface `surface`
+    /// (0-based; global frame), if it got that far: what a shaped stop needs,
+    /// without recording the whole path.
+    pub fn trace_at_surface(&self, ray: Ray, surface: usize) -> (Outcome, Option<DVec3>) {
+        let mut at = None;
+        let visit = |s: &Step, l: &Lane, kind: u64| {
+            if s.surface == surface && kind != MISSED {
+                at = Some(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
+            }
+        };
+        #[cfg(target_arch = "x86_64")]
+        let outcome = if simd_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            unsafe { self.walk_fma(ray, visit) }
+        } else {
+            self.walk(ray, visit)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let outcome = self.walk(ray, visit);
+        (outcome, at)
+    }
+
     /// Carries `ray` step by step until it stops, showing `visit` each
     /// step's result.
     #[inline(always)]

@@ -88,3 +88,25 @@ fn tiny_stop_converges_to_a_pinhole_of_the_same_field_of_view() {
     // and the lamp is off-centre, up and to the side where the scene puts it
     assert!(ay < 48.0, "{ay}");
 }
+
+#[test]
+fn a_triangular_stop_makes_triangular_bokeh() {
+    // A defocused on-axis lamp through the double Gauss: with a triangle
+    // inscribed in the stop the blur's RMS radius is sqrt(1/2) of the round
+    // stop's (E[r^2] = R^2/4 for the triangle, R^2/2 for the disc).
+    let cam = |shape: &str| {
+        format!(
+            r#"{{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "../double-gauss-50mm.json",
+                 "f_number": 4, "focus_distance": 2.0, "sensor_mm": [1.5, 1.5], "aperture_shape": {shape}}}"#
+        )
+    };
+    let rms = |shape: &str| {
+        let s = lamp_scene(&cam(shape), DVec3::new(0.0, 0.0, 1.0), 0.0005, 64);
+        let (img, _) = render(&s, Options { spp: 64, seed: 5 }, &|_| {});
+        moments(&img).2
+    };
+    let round = rms(r#"{"shape": "circle"}"#);
+    let triangle = rms(r#"{"shape": "polygon", "blades": 3, "rotation_deg": 90}"#);
+    let ratio = triangle / round;
+    assert!((ratio - 0.5f64.sqrt()).abs() < 0.05, "{triangle} / {round} = {ratio}");
+}

@@ -97,10 +97,16 @@ impl RealLensCamera {
     /// off-axis, cat's-eye shaped pupils and on small stops.
     fn bound_bin(&self, i: usize, rear: f64) -> (f64, Vec<(f64, f64)>) {
         let radii: Vec<f64> = (0..RADII).map(|k| self.bin_width * (i as f64 + k as f64 / (RADII - 1) as f64)).collect();
+        // The bounds are rotated to each film point's azimuth, which only
+        // holds for a round stop; a shaped stop (polygon, mask) lies inside
+        // the round one at every azimuth, so bound with the round stop and
+        // let the shape reject rays when rendering.
         let passes = |x: f64, y: f64| {
-            radii
-                .iter()
-                .any(|&r| self.trace_lens(DVec3::new(r, 0.0, self.z_film), DVec3::new(x, y, self.z_rear)).is_some())
+            radii.iter().any(|&r| {
+                let film = DVec3::new(r, 0.0, self.z_film);
+                lens::Ray::new(film, DVec3::new(x, y, self.z_rear) - film)
+                    .is_some_and(|ray| self.tracer.trace(ray).reached().is_some())
+            })
         };
         let coarse = 2.0 * rear / GRID as f64;
         let mut b = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];
@@ -138,19 +144,30 @@ impl RealLensCamera {
         (side, cells)
     }
 
-    /// Mean estimator weight at a film radius (before normalisation).
+    /// Mean estimator weight at a film radius (before normalisation): every
+    /// cell of the radius's bounds probed on a 4 x 4 sub-grid, so the mean
+    /// is exact to the cell resolution (a grid over the aperture uniforms
+    /// would visit only a few of the cells).
     fn mean_weight(&self, r: f64) -> f64 {
-        let n = 64;
+        let bin = ((r / self.bin_width) as usize).min(BINS - 1);
+        let Some((_, cells)) = self.cells.get(bin) else { return 0.0 };
+        let n = cells.len();
+        if n == 0 {
+            return 0.0;
+        }
+        let sub = 4;
         let mut sum = 0.0;
-        for j in 0..n {
-            for i in 0..n {
-                let a = ((i as f64 + 0.5) / n as f64, (j as f64 + 0.5) / n as f64);
-                if let Some((_, w)) = self.lens_ray(r, 0.0, a) {
-                    sum += w;
+        for k in 0..n {
+            for j in 0..sub {
+                for i in 0..sub {
+                    let a = ((k as f64 + (i as f64 + 0.5) / sub as f64) / n as f64, (j as f64 + 0.5) / sub as f64);
+                    if let Some((_, w)) = self.lens_ray(r, 0.0, a) {
+                        sum += w;
+                    }
                 }
             }
         }
-        sum / (n * n) as f64
+        sum / (n * sub * sub) as f64
     }
 
     /// Traces film point `f` toward rear-plane point `t` (lens frame, mm):
@@ -163,11 +180,9 @@ impl RealLensCamera {
         if self.aperture == Aperture::Circle {
             return self.tracer.trace(ray).reached().map(|r| (r, 1.0));
         }
-        let (path, outcome) = self.tracer.trace_path(ray);
+        let (outcome, at_stop) = self.tracer.trace_at_surface(ray, self.stop);
         let out = outcome.reached()?;
-        // path[0] is the start; surfaces are met from the last to the first
-        let n = self.prescription.surfaces().len();
-        let at_stop = path.get(n - self.stop)?;
+        let at_stop = at_stop?;
         let t = self.aperture.transmission(at_stop.x / self.stop_sd, at_stop.y / self.stop_sd);
         (t > 0.0).then_some((out, t))
     }

@@ -215,12 +215,18 @@ impl Tracer {
 
     /// Traces one ray (global frame) and classifies how it ended.
     pub fn trace(&self, ray: Ray) -> Outcome {
+        self.walk_fastest(ray, |_, _, _| {})
+    }
+
+    /// [`Self::walk`] with hardware fused multiply-add where the CPU has it.
+    #[inline(always)]
+    fn walk_fastest(&self, ray: Ray, visit: impl FnMut(&Step, &Lane, u64)) -> Outcome {
         #[cfg(target_arch = "x86_64")]
         if simd_fma() {
             // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
-            return unsafe { self.walk_fma(ray, |_, _, _| {}) };
+            return unsafe { self.walk_fma(ray, visit) };
         }
-        self.walk(ray, |_, _, _| {})
+        self.walk(ray, visit)
     }
 
     /// [`Self::walk`] compiled with hardware fused multiply-add. The kernel
@@ -242,15 +248,7 @@ impl Tracer {
                 path.push(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
             }
         };
-        #[cfg(target_arch = "x86_64")]
-        let outcome = if simd_fma() {
-            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
-            unsafe { self.walk_fma(ray, visit) }
-        } else {
-            self.walk(ray, visit)
-        };
-        #[cfg(not(target_arch = "x86_64"))]
-        let outcome = self.walk(ray, visit);
+        let outcome = self.walk_fastest(ray, visit);
         (path, outcome)
     }
 
@@ -264,15 +262,7 @@ impl Tracer {
                 at = Some(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
             }
         };
-        #[cfg(target_arch = "x86_64")]
-        let outcome = if simd_fma() {
-            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
-            unsafe { self.walk_fma(ray, visit) }
-        } else {
-            self.walk(ray, visit)
-        };
-        #[cfg(not(target_arch = "x86_64"))]
-        let outcome = self.walk(ray, visit);
+        let outcome = self.walk_fastest(ray, visit);
         (outcome, at)
     }
 

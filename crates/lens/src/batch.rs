@@ -3,9 +3,14 @@
 //! that the compiler vectorises the inner loop. Results are bit-for-bit those
 //! of [`Tracer::trace`], which runs the same per-surface kernel.
 
-use crate::intersect::LaneHit;
+#[cfg(target_arch = "x86_64")]
+use crate::avx2::{F64x4, M64x4};
+#[cfg(target_arch = "x86_64")]
+use crate::intersect::{approach, meet_plane, meet_sphere, Approach};
 use crate::ray::{Outcome, Ray};
-use crate::trace::{finish_lane, shift_and_hit, Lane, Step, Tracer, PASSED};
+#[cfg(target_arch = "x86_64")]
+use crate::trace::{finish_step, kind_of, simd_fma, stopped, Step, StepLanes};
+use crate::trace::{Lane, Tracer, PASSED};
 use glam::DVec3;
 
 /// Rays as a structure of arrays (global frame, mm). After
@@ -71,110 +76,185 @@ impl RayBatch {
 }
 
 /// Rays traced per chunk: all surfaces are applied to a chunk before the
-/// next, so the two chunks (2 x 6.5 KiB) stay in the L1 cache. 16 to 64 rays
-/// measured 10-15% faster than 256 on Zen 3 (docs/performance.md).
+/// next, so that it (8 KiB) stays in the L1 cache.
 const CHUNK: usize = 64;
 
-/// One chunk of rays as a structure of arrays. Each surface reads one chunk
-/// and writes another (ping-pong): writing in place would let the compiler
-/// turn the "keep finished rays" selects into masked stores, which are slow.
-#[derive(Clone)]
-struct Chunk {
-    x: [f64; CHUNK],
-    y: [f64; CHUNK],
-    z: [f64; CHUNK],
-    dx: [f64; CHUNK],
-    dy: [f64; CHUNK],
-    dz: [f64; CHUNK],
-    opl: [f64; CHUNK],
-    status: [u64; CHUNK],
-    /// Scratch between the two passes of a surface: each ray's hit point,
-    /// distance and whether it exists. Kept apart from the outputs: parked in
-    /// them, the "keep the old value" selects became masked stores.
-    hx: [f64; CHUNK],
-    hy: [f64; CHUNK],
-    hz: [f64; CHUNK],
-    ht: [f64; CHUNK],
-    hok: [u64; CHUNK],
+/// Vectors of four rays per chunk.
+#[cfg(target_arch = "x86_64")]
+const VECTORS: usize = CHUNK / 4;
+
+/// Rays in groups of four (one AVX2 vector each), structure of arrays.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct Rays4 {
+    x: [[f64; 4]; VECTORS],
+    y: [[f64; 4]; VECTORS],
+    z: [[f64; 4]; VECTORS],
+    dx: [[f64; 4]; VECTORS],
+    dy: [[f64; 4]; VECTORS],
+    dz: [[f64; 4]; VECTORS],
+    opl: [[f64; 4]; VECTORS],
 }
 
+#[cfg(target_arch = "x86_64")]
+impl Rays4 {
+    /// Ray `i` (a lane of one vector).
+    fn get(&self, i: usize) -> Lane<f64> {
+        let (j, k) = (i / 4, i % 4);
+        Lane {
+            px: self.x[j][k],
+            py: self.y[j][k],
+            pz: self.z[j][k],
+            dx: self.dx[j][k],
+            dy: self.dy[j][k],
+            dz: self.dz[j][k],
+            opl: self.opl[j][k],
+        }
+    }
+
+    fn set(&mut self, i: usize, l: Lane<f64>) {
+        let (j, k) = (i / 4, i % 4);
+        self.x[j][k] = l.px;
+        self.y[j][k] = l.py;
+        self.z[j][k] = l.pz;
+        self.dx[j][k] = l.dx;
+        self.dy[j][k] = l.dy;
+        self.dz[j][k] = l.dz;
+        self.opl[j][k] = l.opl;
+    }
+}
+
+/// A ray lanes hold once theirs has stopped: on the axis, along it, so the
+/// arithmetic the kernel still does on them stays finite and normal.
+#[cfg(target_arch = "x86_64")]
+const IDLE: Lane<f64> = Lane { px: 0.0, py: 0.0, pz: 0.0, dx: 0.0, dy: 0.0, dz: 1.0, opl: 0.0 };
+
+/// One chunk of rays. The kernel carries every lane through every step
+/// without masking, from one of the two `live` buffers into the other; a ray
+/// that stops is copied, in the global frame, into `done` (a rare, separate
+/// path), and its lane goes on idle.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone)]
+struct Chunk {
+    /// Travelling rays: before step k in `live[k % 2]`, in the frame of the
+    /// step before.
+    live: [Rays4; 2],
+    /// Rays that stopped, in the global frame.
+    done: Rays4,
+    /// 0 while travelling (or when reached), else as [`RayBatch::status`];
+    /// `u64::MAX` for padding.
+    status: [[u64; 4]; VECTORS],
+    /// Each vector's closest approach to a sphere, between the two passes
+    /// of a step.
+    approach: [Approach4; VECTORS],
+}
+
+/// [`Approach`] of four rays, as stored between the passes.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct Approach4 {
+    t0: [f64; 4],
+    x0: [f64; 4],
+    y0: [f64; 4],
+    z0: [f64; 4],
+    f: [f64; 4],
+    g: [f64; 4],
+    disc: [f64; 4],
+}
+
+#[cfg(target_arch = "x86_64")]
 impl Chunk {
     fn new() -> Box<Self> {
-        Box::new(Chunk {
-            x: [0.0; CHUNK],
-            y: [0.0; CHUNK],
-            z: [0.0; CHUNK],
-            dx: [0.0; CHUNK],
-            dy: [0.0; CHUNK],
-            dz: [0.0; CHUNK],
-            opl: [0.0; CHUNK],
-            status: [0; CHUNK],
-            hx: [0.0; CHUNK],
-            hy: [0.0; CHUNK],
-            hz: [0.0; CHUNK],
-            ht: [0.0; CHUNK],
-            hok: [0; CHUNK],
-        })
+        let v = [[0.0; 4]; VECTORS];
+        let rays = Rays4 { x: v, y: v, z: v, dx: v, dy: v, dz: v, opl: v };
+        let a = [0.0; 4];
+        let approach = [Approach4 { t0: a, x0: a, y0: a, z0: a, f: a, g: a, disc: a }; VECTORS];
+        Box::new(Chunk { live: [rays; 2], done: rays, status: [[0; 4]; VECTORS], approach })
+    }
+
+    /// Puts ray `i` (global frame) with its status into the chunk.
+    fn put(&mut self, i: usize, l: Lane<f64>, status: u64) {
+        self.status[i / 4][i % 4] = status;
+        if status == 0 {
+            self.live[0].set(i, l);
+        } else {
+            self.done.set(i, l);
+            self.live[0].set(i, IDLE);
+        }
+    }
+
+    /// Ray `i` after tracing `steps` steps, in the global frame, with its
+    /// status.
+    fn take(&self, i: usize, steps: usize, last_vertex_z: f64) -> (Lane<f64>, u64) {
+        let st = self.status[i / 4][i % 4];
+        if st == 0 {
+            let l = self.live[steps % 2].get(i);
+            (Lane { pz: l.pz + last_vertex_z, ..l }, 0)
+        } else {
+            (self.done.get(i), st)
+        }
+    }
+
+    /// Pads rays `m..` up to a whole vector with idle lanes; returns the
+    /// number of vectors.
+    fn pad(&mut self, m: usize) -> usize {
+        let n = m.div_ceil(4);
+        for i in m..n * 4 {
+            self.put(i, IDLE, u64::MAX);
+        }
+        n
     }
 }
 
 impl Tracer {
     /// Traces every ray of `batch` in place. The batch's rays start in the
     /// global frame and end there, holding the state described by
-    /// [`Outcome`]; rays whose `status` is already non-zero are left alone.
-    /// Allocates two chunk buffers (13 KiB) per call, nothing per ray.
+    /// [`Outcome`]; rays whose `status` is already non-zero are left alone,
+    /// and path lengths add to the `opl` a ray starts with. Allocates one
+    /// chunk buffer (4 KiB) per call, nothing per ray.
     pub fn trace_soa(&self, batch: &mut RayBatch) {
-        let n = batch.len();
-        let (mut a, mut b) = (Chunk::new(), Chunk::new());
-        let mut start = 0;
-        while start < n {
-            let m = (n - start).min(CHUNK);
-            let r = start..start + m;
-            a.x[..m].copy_from_slice(&batch.x[r.clone()]);
-            a.y[..m].copy_from_slice(&batch.y[r.clone()]);
-            a.z[..m].copy_from_slice(&batch.z[r.clone()]);
-            a.dx[..m].copy_from_slice(&batch.dx[r.clone()]);
-            a.dy[..m].copy_from_slice(&batch.dy[r.clone()]);
-            a.dz[..m].copy_from_slice(&batch.dz[r.clone()]);
-            a.opl[..m].copy_from_slice(&batch.opl[r.clone()]);
-            a.status[..m].copy_from_slice(&batch.status[r.clone()]);
-            let out = self.trace_chunk(&mut a, &mut b, m);
-            batch.x[r.clone()].copy_from_slice(&out.x[..m]);
-            batch.y[r.clone()].copy_from_slice(&out.y[..m]);
-            batch.z[r.clone()].copy_from_slice(&out.z[..m]);
-            batch.dx[r.clone()].copy_from_slice(&out.dx[..m]);
-            batch.dy[r.clone()].copy_from_slice(&out.dy[..m]);
-            batch.dz[r.clone()].copy_from_slice(&out.dz[..m]);
-            batch.opl[r.clone()].copy_from_slice(&out.opl[..m]);
-            batch.status[r].copy_from_slice(&out.status[..m]);
-            start += m;
+        #[cfg(target_arch = "x86_64")]
+        if simd_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            unsafe { self.trace_soa_avx2(batch) };
+            return;
+        }
+        for i in 0..batch.len() {
+            if batch.status[i] != 0 {
+                continue;
+            }
+            let start = Lane {
+                px: batch.x[i],
+                py: batch.y[i],
+                pz: batch.z[i],
+                dx: batch.dx[i],
+                dy: batch.dy[i],
+                dz: batch.dz[i],
+                opl: batch.opl[i],
+            };
+            let (l, k, kind) = self.walk_lane(start, |_, _, _| {});
+            batch.x[i] = l.px;
+            batch.y[i] = l.py;
+            batch.z[i] = l.pz + self.steps[k].vertex_z;
+            batch.dx[i] = l.dx;
+            batch.dy[i] = l.dy;
+            batch.dz[i] = l.dz;
+            batch.opl[i] = l.opl;
+            batch.status[i] = if kind == PASSED { 0 } else { ((k as u64 + 1) << 2) | kind };
         }
     }
 
     /// Traces `rays` into `out` (pairs up to the shorter length), chunk by
-    /// chunk: two chunk buffers per call, no allocation per ray.
+    /// chunk: one chunk buffer per call, no allocation per ray.
     pub fn trace_batch(&self, rays: &[Ray], out: &mut [Outcome]) {
-        let (mut a, mut b) = (Chunk::new(), Chunk::new());
-        for (rays, out) in rays.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
-            let m = rays.len().min(out.len());
-            for (i, r) in rays[..m].iter().enumerate() {
-                a.x[i] = r.origin.x;
-                a.y[i] = r.origin.y;
-                a.z[i] = r.origin.z;
-                a.dx[i] = r.direction.x;
-                a.dy[i] = r.direction.y;
-                a.dz[i] = r.direction.z;
-                a.opl[i] = 0.0;
-                a.status[i] = 0;
-            }
-            let c = self.trace_chunk(&mut a, &mut b, m);
-            for (i, o) in out[..m].iter_mut().enumerate() {
-                let ray = Ray {
-                    origin: DVec3::new(c.x[i], c.y[i], c.z[i]),
-                    direction: DVec3::new(c.dx[i], c.dy[i], c.dz[i]),
-                };
-                *o = self.decode(ray, c.opl[i], c.status[i]);
-            }
+        #[cfg(target_arch = "x86_64")]
+        if simd_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            unsafe { self.trace_batch_avx2(rays, out) };
+            return;
+        }
+        for (r, o) in rays.iter().zip(out.iter_mut()) {
+            *o = self.trace(*r);
         }
     }
 
@@ -193,109 +273,189 @@ impl Tracer {
         self.classify(ray, opl, k, kind)
     }
 
-    /// Runs every step over the first `m` rays of `a`, using `b` as scratch;
-    /// returns the chunk that holds the result, in the global frame.
-    fn trace_chunk<'c>(&self, a: &'c mut Chunk, b: &'c mut Chunk, m: usize) -> &'c mut Chunk {
-        #[cfg(target_arch = "x86_64")]
-        let avx2 = crate::trace::simd_fma();
-        let (mut src, mut dst) = (a, b);
+    /// [`Self::trace_soa`] on AVX2 + FMA, a chunk at a time.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn trace_soa_avx2(&self, batch: &mut RayBatch) {
+        let mut c = Chunk::new();
+        let last_z = self.steps[self.steps.len() - 1].vertex_z;
+        let n = batch.len();
+        let mut start = 0;
+        while start < n {
+            let m = (n - start).min(CHUNK);
+            for i in 0..m {
+                let b = start + i;
+                let l = Lane {
+                    px: batch.x[b],
+                    py: batch.y[b],
+                    pz: batch.z[b],
+                    dx: batch.dx[b],
+                    dy: batch.dy[b],
+                    dz: batch.dz[b],
+                    opl: batch.opl[b],
+                };
+                c.put(i, l, batch.status[b]);
+            }
+            self.trace_chunk(&mut c, m);
+            for i in 0..m {
+                let b = start + i;
+                let (l, st) = c.take(i, self.steps.len(), last_z);
+                batch.x[b] = l.px;
+                batch.y[b] = l.py;
+                batch.z[b] = l.pz;
+                batch.dx[b] = l.dx;
+                batch.dy[b] = l.dy;
+                batch.dz[b] = l.dz;
+                batch.opl[b] = l.opl;
+                batch.status[b] = st;
+            }
+            start += m;
+        }
+    }
+
+    /// [`Self::trace_batch`] on AVX2 + FMA, a chunk at a time.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn trace_batch_avx2(&self, rays: &[Ray], out: &mut [Outcome]) {
+        let mut c = Chunk::new();
+        let last_z = self.steps[self.steps.len() - 1].vertex_z;
+        for (rays, out) in rays.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+            let m = rays.len().min(out.len());
+            for (i, r) in rays[..m].iter().enumerate() {
+                let (o, d) = (r.origin, r.direction);
+                c.put(i, Lane { px: o.x, py: o.y, pz: o.z, dx: d.x, dy: d.y, dz: d.z, opl: 0.0 }, 0);
+            }
+            self.trace_chunk(&mut c, m);
+            for (i, o) in out[..m].iter_mut().enumerate() {
+                let (l, st) = c.take(i, self.steps.len(), last_z);
+                let ray = Ray { origin: DVec3::new(l.px, l.py, l.pz), direction: DVec3::new(l.dx, l.dy, l.dz) };
+                *o = self.decode(ray, l.opl, st);
+            }
+        }
+    }
+
+    /// Runs every step over the first `m` rays of the chunk, in place.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn trace_chunk(&self, c: &mut Chunk, m: usize) {
+        let n = c.pad(m);
         for (k, s) in self.steps.iter().enumerate() {
-            let code = ((k as u64) + 1) << 2;
-            #[cfg(target_arch = "x86_64")]
-            if avx2 {
-                // SAFETY: the CPU supports AVX2 (checked above).
-                unsafe {
-                    if s.refract {
-                        step_chunk_avx2::<true>(s, code, src, dst, m);
-                    } else {
-                        step_chunk_avx2::<false>(s, code, src, dst, m);
-                    }
-                }
-                std::mem::swap(&mut src, &mut dst);
-                continue;
+            match (s.refract, s.plane) {
+                (true, false) => step_chunk::<true, false>(s, k, c, n),
+                (true, true) => step_chunk::<true, true>(s, k, c, n),
+                (false, false) => step_chunk::<false, false>(s, k, c, n),
+                (false, true) => step_chunk::<false, true>(s, k, c, n),
             }
-            if s.refract {
-                step_chunk::<true>(s, code, src, dst, m);
-            } else {
-                step_chunk::<false>(s, code, src, dst, m);
-            }
-            std::mem::swap(&mut src, &mut dst);
         }
-        // Back to the global frame: each ray is in the frame of the step where
-        // it stopped (the last step when it passed every one).
-        let last = self.steps.len() - 1;
-        for (z, st) in src.z[..m].iter_mut().zip(src.status[..m].iter()) {
-            let k = if *st == 0 { last } else { (*st >> 2) as usize - 1 };
-            *z += self.steps[k].vertex_z;
-        }
-        src
     }
 }
 
-/// [`step_chunk`] compiled for AVX2 (4 f64 lanes) and hardware fused
-/// multiply-add, chosen at run time.
+/// Step `k` applied to the first `n` vectors of a chunk, four rays per
+/// vector, from `live[k % 2]` into the other buffer, every lane computed and
+/// stored without masking. The rare vector where a travelling ray stops takes
+/// [`stop_lanes`].
+///
+/// A sphere takes two passes over the chunk, split before the square root:
+/// each pass's chain of dependent operations is short enough that the
+/// processor runs several vectors at once (one pass was 1.5 times slower).
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn step_chunk_avx2<const REFRACT: bool>(s: &Step, code: u64, src: &Chunk, dst: &mut Chunk, m: usize) {
-    step_chunk::<REFRACT>(s, code, src, dst, m)
+#[inline(always)]
+fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mut Chunk, n: usize) {
+    let sl = StepLanes::<F64x4>::of(s);
+    let n = n.min(VECTORS);
+    let [a, b] = &mut c.live;
+    let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
+    if !PLANE {
+        for j in 0..n {
+            let ap = approach(
+                sl.c,
+                F64x4::load(&src.x[j]),
+                F64x4::load(&src.y[j]),
+                F64x4::load(&src.z[j]) - sl.shift,
+                F64x4::load(&src.dx[j]),
+                F64x4::load(&src.dy[j]),
+                F64x4::load(&src.dz[j]),
+            );
+            let st = &mut c.approach[j];
+            ap.t0.store(&mut st.t0);
+            ap.x0.store(&mut st.x0);
+            ap.y0.store(&mut st.y0);
+            ap.z0.store(&mut st.z0);
+            ap.f.store(&mut st.f);
+            ap.g.store(&mut st.g);
+            ap.disc.store(&mut st.disc);
+        }
+    }
+    for j in 0..n {
+        let d = [F64x4::load(&src.dx[j]), F64x4::load(&src.dy[j]), F64x4::load(&src.dz[j])];
+        let h = if PLANE {
+            meet_plane(
+                F64x4::load(&src.x[j]),
+                F64x4::load(&src.y[j]),
+                F64x4::load(&src.z[j]) - sl.shift,
+                d[0],
+                d[1],
+                d[2],
+            )
+        } else {
+            let st = &c.approach[j];
+            let ap = Approach {
+                t0: F64x4::load(&st.t0),
+                x0: F64x4::load(&st.x0),
+                y0: F64x4::load(&st.y0),
+                z0: F64x4::load(&st.z0),
+                f: F64x4::load(&st.f),
+                g: F64x4::load(&st.g),
+                disc: F64x4::load(&st.disc),
+            };
+            meet_sphere(sl.c, ap, d[0], d[1], d[2])
+        };
+        let out = finish_step::<F64x4, REFRACT>(&sl, h, d, F64x4::load(&src.opl[j]));
+        let o = out.next;
+        o.px.store(&mut dst.x[j]);
+        o.py.store(&mut dst.y[j]);
+        o.pz.store(&mut dst.z[j]);
+        o.dx.store(&mut dst.dx[j]);
+        o.dy.store(&mut dst.dy[j]);
+        o.dz.store(&mut dst.dz[j]);
+        o.opl.store(&mut dst.opl[j]);
+        let v = out.verdict;
+        let dying = M64x4::is_zero(&c.status[j]).bits() & !v.passed.bits();
+        if dying != 0 {
+            let verdict = [v.ok.bits(), v.inside.bits(), v.through.bits()];
+            stop_lanes(s, k, src, dst, &mut c.done, &mut c.status[j], j, dying, verdict);
+        }
+    }
 }
 
-/// One surface applied to the first `m` rays of `src`, written to `dst`.
-/// Finished rays are copied unchanged; a ray that stops here gets `code`
-/// (the step) with its kind. Two passes over the chunk (intersect, then clip
-/// and refract) keep each loop body short, so the processor overlaps the
-/// long square-root and division latencies of neighbouring rays.
-#[inline(always)]
-fn step_chunk<const REFRACT: bool>(s: &Step, code: u64, src: &Chunk, dst: &mut Chunk, m: usize) {
-    let m = m.min(CHUNK);
-    // Pass 1: the hit of every ray, parked in dst's scratch arrays.
-    for i in 0..m {
-        let lane = Lane {
-            px: src.x[i],
-            py: src.y[i],
-            pz: src.z[i],
-            dx: src.dx[i],
-            dy: src.dy[i],
-            dz: src.dz[i],
-            opl: src.opl[i],
-        };
-        let (_, h) = shift_and_hit(s, lane);
-        dst.hx[i] = h.x;
-        dst.hy[i] = h.y;
-        dst.hz[i] = h.z;
-        dst.ht[i] = h.t;
-        dst.hok[i] = h.ok as u64;
+/// The rays of vector `j` marked in `dying` (one bit per lane) stopped at
+/// step `k` (`verdict`: the bits of `ok`, `inside`, `through`): their states,
+/// as [`stopped`] gives them from `before` and `after` the step (the one-ray
+/// path's own function), go to `done` in the global frame, their status says
+/// where and how, and their lanes go idle.
+#[cfg(target_arch = "x86_64")]
+#[cold]
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn stop_lanes(
+    s: &Step,
+    k: usize,
+    before: &Rays4,
+    after: &mut Rays4,
+    done: &mut Rays4,
+    status: &mut [u64; 4],
+    j: usize,
+    dying: u32,
+    verdict: [u32; 3],
+) {
+    for lane in (0..4).filter(|lane| dying >> lane & 1 != 0) {
+        let [ok, inside, through] = verdict.map(|b| b >> lane & 1 != 0);
+        let kind = kind_of(ok, inside, through);
+        let i = j * 4 + lane;
+        let old = before.get(i);
+        let l = stopped(old, after.get(i), old.pz - s.shift, kind);
+        done.set(i, Lane { pz: l.pz + s.vertex_z, ..l });
+        status[lane] = ((k as u64 + 1) << 2) | kind;
+        after.set(i, IDLE);
     }
-    // Pass 2: clip, refract, classify; keep finished rays as they were.
-    for i in 0..m {
-        let st = src.status[i];
-        let alive = st == 0;
-        let lane = Lane {
-            px: src.x[i],
-            py: src.y[i],
-            pz: src.z[i] - s.shift,
-            dx: src.dx[i],
-            dy: src.dy[i],
-            dz: src.dz[i],
-            opl: src.opl[i],
-        };
-        let h = LaneHit { t: dst.ht[i], x: dst.hx[i], y: dst.hy[i], z: dst.hz[i], ok: dst.hok[i] != 0 };
-        let (next, kind) = finish_lane::<REFRACT>(s, lane, h);
-        // bitwise blends: plain selects here were turned into masked stores
-        let keep = (alive as u64).wrapping_neg();
-        dst.x[i] = blend(keep, next.px, src.x[i]);
-        dst.y[i] = blend(keep, next.py, src.y[i]);
-        dst.z[i] = blend(keep, next.pz, src.z[i]);
-        dst.dx[i] = blend(keep, next.dx, src.dx[i]);
-        dst.dy[i] = blend(keep, next.dy, src.dy[i]);
-        dst.dz[i] = blend(keep, next.dz, src.dz[i]);
-        dst.opl[i] = blend(keep, next.opl, src.opl[i]);
-        dst.status[i] = if alive && kind != PASSED { code | kind } else { st };
-    }
-}
-
-/// `a` where `mask` is all ones, `b` where it is zero, bit by bit.
-#[inline(always)]
-fn blend(mask: u64, a: f64, b: f64) -> f64 {
-    f64::from_bits((a.to_bits() & mask) | (b.to_bits() & !mask))
 }

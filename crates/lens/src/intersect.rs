@@ -2,6 +2,7 @@
 //! frame (vertex at the origin, axis +z), by the rationalised
 //! Spencer & Murty / Welford root (DESIGN.md, Numerics).
 
+use crate::lanes::Real;
 use glam::DVec3;
 
 /// Where a ray meets a sphere: the signed distance along the ray and the hit.
@@ -26,43 +27,113 @@ pub struct Hit {
 /// assert!((hit.point.z - (50.0 - (50.0f64 * 50.0 - 25.0).sqrt())).abs() < 1e-12);
 /// ```
 pub fn intersect(c: f64, p: DVec3, d: DVec3) -> Option<Hit> {
-    let r = intersect_lanes(c, p.x, p.y, p.z, d.x, d.y, d.z);
+    let r = if c == 0.0 {
+        intersect_lanes::<f64, true>(c, p.x, p.y, p.z, d.x, d.y, d.z)
+    } else {
+        intersect_lanes::<f64, false>(c, p.x, p.y, p.z, d.x, d.y, d.z)
+    };
     r.ok.then(|| Hit { t: r.t, point: DVec3::new(r.x, r.y, r.z) })
 }
 
-/// Result of [`intersect_lanes`]: plain numbers so that loops over many rays
-/// vectorise. When `ok` is false the other fields are meaningless (but finite
-/// or not, they must be masked by the caller).
+/// Result of [`intersect_lanes`], per lane. Where `ok` is false the other
+/// fields are meaningless (finite or not) and must be masked by the caller.
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct LaneHit {
-    pub t: f64,
-    pub x: f64,
-    pub y: f64,
-    pub z: f64,
-    pub ok: bool,
+pub(crate) struct LaneHit<L: Real> {
+    /// Distance along the ray from its start to the hit, mm.
+    pub t: L,
+    pub x: L,
+    pub y: L,
+    pub z: L,
+    /// `D . N` at the hit, with `N = (-c x, -c y, 1 - c z)` the unit normal:
+    /// the signed cosine of incidence.
+    pub cos: L,
+    /// Its square (the discriminant of the root for a sphere).
+    pub cos2: L,
+    pub ok: L::Mask,
 }
 
-/// The intersection on scalars, branch-free, shared by the one-ray and the
-/// batch tracers so that both give bit-identical results.
+/// The intersection, branch-free, generic over one ray or several
+/// ([`Real`]), so that the one-ray and the batch tracers give bit-identical
+/// results. `PLANE` must be `c == 0`: a plane is met by [`meet_plane`],
+/// with no square root; a sphere by [`approach`] then [`meet_sphere`].
 #[inline(always)]
-pub(crate) fn intersect_lanes(c: f64, px: f64, py: f64, pz: f64, dx: f64, dy: f64, dz: f64) -> LaneHit {
+pub(crate) fn intersect_lanes<L: Real, const PLANE: bool>(
+    c: L,
+    px: L,
+    py: L,
+    pz: L,
+    dx: L,
+    dy: L,
+    dz: L,
+) -> LaneHit<L> {
+    if PLANE {
+        meet_plane(px, py, pz, dx, dy, dz)
+    } else {
+        meet_sphere(c, approach(c, px, py, pz, dx, dy, dz), dx, dy, dz)
+    }
+}
+
+/// The plane z = 0, met at `t = -pz / dz` (exactly `z = 0`); a ray parallel
+/// to it misses.
+#[inline(always)]
+pub(crate) fn meet_plane<L: Real>(px: L, py: L, pz: L, dx: L, dy: L, dz: L) -> LaneHit<L> {
+    let t = -pz / dz;
+    LaneHit { t, x: t.fma(dx, px), y: t.fma(dy, py), z: L::splat(0.0), cos: dz, cos2: dz * dz, ok: t.is_finite() }
+}
+
+/// The first half of a sphere's intersection: the ray moved to its closest
+/// approach to the vertex, and the quadratic's coefficients there.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Approach<L> {
+    /// Distance from the ray's start to the closest approach, mm.
+    pub t0: L,
+    /// The closest approach `P0`, mm.
+    pub x0: L,
+    pub y0: L,
+    pub z0: L,
+    /// `F = c |P0|^2 - 2 z0`.
+    pub f: L,
+    /// `G = Dz - c (P0 . D)`.
+    pub g: L,
+    /// `G^2 - c F`: negative for a miss.
+    pub disc: L,
+}
+
+/// Steps 1 to 3 of DESIGN.md's intersection with the sphere of curvature
+/// `c` (vertex at the origin).
+#[inline(always)]
+pub(crate) fn approach<L: Real>(c: L, px: L, py: L, pz: L, dx: L, dy: L, dz: L) -> Approach<L> {
     // 1. closest approach to the vertex
-    let t0 = -pz.mul_add(dz, px.mul_add(dx, py * dy));
-    let x0 = t0.mul_add(dx, px);
-    let y0 = t0.mul_add(dy, py);
-    let z0 = t0.mul_add(dz, pz);
-    // 2. F and G
-    let f = c.mul_add(z0.mul_add(z0, x0.mul_add(x0, y0 * y0)), -2.0 * z0);
-    let g = (-c).mul_add(z0.mul_add(dz, x0.mul_add(dx, y0 * dy)), dz);
+    let t0 = -pz.fma(dz, px.fma(dx, py * dy));
+    let x0 = t0.fma(dx, px);
+    let y0 = t0.fma(dy, py);
+    let z0 = t0.fma(dz, pz);
+    // 2. F = c |P0|^2 - 2 z0 (as c (x0^2 + y0^2) + z0 (c z0 - 2), two short
+    //    chains) and G = Dz - c (P0 . D)
+    let f = c.fma(x0.fma(x0, y0 * y0), z0 * c.fma(z0, L::splat(-2.0)));
+    let g = (-c).fma(z0.fma(dz, x0.fma(dx, y0 * dy)), dz);
     // 3. discriminant
-    let disc = g.mul_add(g, -c * f);
-    // 4. rationalised root, no cancellation
-    let den = g + f64::copysign(disc.max(0.0).sqrt(), g);
-    let t1 = f / den;
-    let x = t1.mul_add(dx, x0);
-    let y = t1.mul_add(dy, y0);
-    let z = t1.mul_add(dz, z0);
-    // 5. on the cap around the vertex, not the far side
-    let ok = disc >= 0.0 && t1.is_finite() && 1.0 - c * z > 0.0;
-    LaneHit { t: t0 + t1, x, y, z, ok }
+    let disc = g.fma(g, -c * f);
+    Approach { t0, x0, y0, z0, f, g, disc }
+}
+
+/// Steps 4 and 5: the rationalised root from the closest approach `a`, and
+/// the test that the hit lies on the cap around the vertex.
+///
+/// The cosine of incidence comes with the root, as in Welford's skew-ray
+/// trace: the quadratic `c t^2 - 2 G t + F = 0` has the root
+/// `t1 = F / (G + s sqrt(disc)) = (G - s sqrt(disc)) / c` (s the sign of G),
+/// and `D . N = G - c t1 = s sqrt(disc)`. Refraction then needs no dot
+/// product, and it does not wait for the division.
+#[inline(always)]
+pub(crate) fn meet_sphere<L: Real>(c: L, a: Approach<L>, dx: L, dy: L, dz: L) -> LaneHit<L> {
+    // 4. rationalised root, no cancellation: s sqrt(disc) is D . N
+    let cos = a.disc.pos_or_zero().sqrt().or(a.g.sign_bit());
+    let t1 = a.f / (a.g + cos);
+    let x = t1.fma(dx, a.x0);
+    let y = t1.fma(dy, a.y0);
+    let z = t1.fma(dz, a.z0);
+    // 5. on the cap around the vertex (1 - c z > 0), not the far side
+    let ok = a.disc.ge(L::splat(0.0)) & t1.is_finite() & (c * z).lt(L::splat(1.0));
+    LaneHit { t: a.t0 + t1, x, y, z, cos, cos2: a.disc, ok }
 }

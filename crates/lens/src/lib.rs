@@ -28,12 +28,15 @@
 //! ```
 
 pub mod analysis;
+#[cfg(target_arch = "x86_64")]
+mod avx2;
 pub mod batch;
 pub mod bench;
 pub mod dat;
 pub mod error;
 pub mod focus;
 pub mod intersect;
+mod lanes;
 mod load;
 pub mod paraxial;
 pub mod prescription;

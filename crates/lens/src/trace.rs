@@ -6,10 +6,11 @@
 //! the clear aperture and refracted by [`crate::refract`]. The batch tracer in
 //! [`crate::batch`] runs the same per-surface kernel, so both agree bit for bit.
 
-use crate::intersect::{intersect_lanes, LaneHit};
+use crate::intersect::{approach, meet_plane, meet_sphere, LaneHit};
+use crate::lanes::{Mask, Real};
 use crate::prescription::Prescription;
 use crate::ray::{Outcome, Ray};
-use crate::refract::refract_lanes;
+use crate::refract::{one_minus_square, refract_lanes};
 use glam::DVec3;
 
 /// Which way rays travel through the prescription.
@@ -41,6 +42,8 @@ pub(crate) struct Step {
     pub surface: usize,
     /// Whether the indices differ (otherwise the direction is kept exactly).
     pub refract: bool,
+    /// Whether the surface is a plane (`c == 0`).
+    pub plane: bool,
 }
 
 /// Whether this CPU runs the AVX2 + FMA kernels (detected once, cached by
@@ -57,48 +60,43 @@ pub(crate) const MISSED: u64 = 1;
 pub(crate) const BLOCKED: u64 = 2;
 pub(crate) const TIR: u64 = 3;
 
-/// The state of one ray in a step's local frame.
+/// The state of rays in a step's local frame: one ray (`f64`) or one per
+/// lane of a vector ([`Real`]).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Lane {
-    pub px: f64,
-    pub py: f64,
-    pub pz: f64,
-    pub dx: f64,
-    pub dy: f64,
-    pub dz: f64,
-    pub opl: f64,
+pub(crate) struct Lane<L> {
+    pub px: L,
+    pub py: L,
+    pub pz: L,
+    pub dx: L,
+    pub dy: L,
+    pub dz: L,
+    pub opl: L,
 }
 
-/// Carries one ray across one step: shift into the frame, intersect, clip,
-/// refract. Returns the new state and the outcome kind. On a miss the ray
-/// keeps its direction and stays where it was (in the new frame); when
-/// blocked or totally reflected it moves to the hit and keeps its direction.
-#[inline(always)]
-pub(crate) fn step_lane<const REFRACT: bool>(s: &Step, l: Lane) -> (Lane, u64) {
-    let (l, h) = shift_and_hit(s, l);
-    finish_lane::<REFRACT>(s, l, h)
+/// How a step went, per lane.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Verdict<M> {
+    /// The ray met the surface.
+    pub ok: M,
+    /// ... inside its clear aperture.
+    pub inside: M,
+    /// ... and was refracted (no total internal reflection).
+    pub through: M,
+    /// All three, for a ray that was travelling: it goes on.
+    pub passed: M,
 }
 
-/// First half of a step: the ray moved into the step's frame, and its hit.
-#[inline(always)]
-pub(crate) fn shift_and_hit(s: &Step, l: Lane) -> (Lane, LaneHit) {
-    let l = Lane { pz: l.pz - s.shift, ..l };
-    (l, intersect_lanes(s.c, l.px, l.py, l.pz, l.dx, l.dy, l.dz))
+impl Verdict<bool> {
+    /// The outcome kind of one ray's step.
+    pub(crate) fn kind(self) -> u64 {
+        kind_of(self.ok, self.inside, self.through)
+    }
 }
 
-/// Second half of a step: clip by the clear aperture, refract, classify.
-/// `l` is already in the step's frame.
+/// The outcome kind from the three tests, in the order they apply.
 #[inline(always)]
-pub(crate) fn finish_lane<const REFRACT: bool>(s: &Step, l: Lane, h: LaneHit) -> (Lane, u64) {
-    let r2 = h.x.mul_add(h.x, h.y * h.y);
-    let inside = r2 <= s.sd2;
-    let (ndx, ndy, ndz, through) = if REFRACT {
-        let d = refract_lanes(l.dx, l.dy, l.dz, -s.c * h.x, -s.c * h.y, 1.0 - s.c * h.z, s.mu);
-        (d.x, d.y, d.z, d.ok)
-    } else {
-        (l.dx, l.dy, l.dz, true)
-    };
-    let kind = if !h.ok {
+pub(crate) fn kind_of(ok: bool, inside: bool, through: bool) -> u64 {
+    if !ok {
         MISSED
     } else if !inside {
         BLOCKED
@@ -106,18 +104,111 @@ pub(crate) fn finish_lane<const REFRACT: bool>(s: &Step, l: Lane, h: LaneHit) ->
         TIR
     } else {
         PASSED
+    }
+}
+
+/// A step's numbers in the kernel's number type.
+#[derive(Clone, Copy)]
+pub(crate) struct StepLanes<L> {
+    pub c: L,
+    sd2: L,
+    mu: L,
+    one_minus_mu2: L,
+    n_before: L,
+    pub shift: L,
+}
+
+impl<L: Real> StepLanes<L> {
+    #[inline(always)]
+    pub(crate) fn of(s: &Step) -> Self {
+        StepLanes {
+            c: L::splat(s.c),
+            sd2: L::splat(s.sd2),
+            mu: L::splat(s.mu),
+            one_minus_mu2: L::splat(one_minus_square(s.mu)),
+            n_before: L::splat(s.n_before),
+            shift: L::splat(s.shift),
+        }
+    }
+}
+
+/// What one step does to rays, per lane.
+#[derive(Clone, Copy)]
+pub(crate) struct StepOut<L: Real> {
+    /// The ray as it goes on when it passed: on the surface, refracted, its
+    /// path length grown by the index times the distance travelled.
+    pub next: Lane<L>,
+    /// The ray's start z in the step's frame (where a missed ray stays).
+    pub pz: L,
+    /// How the step went.
+    pub verdict: Verdict<L::Mask>,
+}
+
+/// Carries rays across one step: shift into the step's frame, intersect,
+/// clip by the clear aperture, refract. `REFRACT` must be `s.refract` and
+/// `PLANE` `s.plane`. The result holds the ray as it goes on; a ray that
+/// stopped here is given by [`stopped`].
+#[inline(always)]
+pub(crate) fn step_lanes<L: Real, const REFRACT: bool, const PLANE: bool>(s: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
+    let pz = l.pz - s.shift;
+    let h = if PLANE {
+        meet_plane(l.px, l.py, pz, l.dx, l.dy, l.dz)
+    } else {
+        meet_sphere(s.c, approach(s.c, l.px, l.py, pz, l.dx, l.dy, l.dz), l.dx, l.dy, l.dz)
     };
-    let passed = kind == PASSED;
-    let out = Lane {
-        px: if h.ok { h.x } else { l.px },
-        py: if h.ok { h.y } else { l.py },
-        pz: if h.ok { h.z } else { l.pz },
-        dx: if passed { ndx } else { l.dx },
-        dy: if passed { ndy } else { l.dy },
-        dz: if passed { ndz } else { l.dz },
-        opl: if h.ok { s.n_before.mul_add(h.t, l.opl) } else { l.opl },
+    let mut out = finish_step::<L, REFRACT>(s, h, [l.dx, l.dy, l.dz], l.opl);
+    out.pz = pz;
+    out
+}
+
+/// The part of a step after the intersection `h`: clip, refract, add the
+/// path. `d` and `opl` are the ray's direction and path length before the
+/// step. (The result's `pz` is left 0: the caller knows it.)
+#[inline(always)]
+pub(crate) fn finish_step<L: Real, const REFRACT: bool>(
+    s: &StepLanes<L>,
+    h: LaneHit<L>,
+    d: [L; 3],
+    opl: L,
+) -> StepOut<L> {
+    let inside = h.x.fma(h.x, h.y * h.y).le(s.sd2);
+    let [dx, dy, dz] = d;
+    let (dx, dy, dz, through) = if REFRACT {
+        let negc = -s.c;
+        let (nx, ny, nz) = (negc * h.x, negc * h.y, negc.fma(h.z, L::splat(1.0)));
+        let d = refract_lanes(dx, dy, dz, nx, ny, nz, s.mu, s.one_minus_mu2, h.cos, h.cos2);
+        (d.x, d.y, d.z, d.ok)
+    } else {
+        (dx, dy, dz, L::Mask::all_true())
     };
-    (out, kind)
+    let next = Lane { px: h.x, py: h.y, pz: h.z, dx, dy, dz, opl: s.n_before.fma(h.t, opl) };
+    StepOut { next, pz: L::splat(0.0), verdict: Verdict { ok: h.ok, inside, through, passed: h.ok & inside & through } }
+}
+
+/// The state of one ray that stopped at a step of kind `kind` (not
+/// [`PASSED`]), from its state `before` the step and the step's result: a
+/// missed ray keeps its direction and stays where it was (in the step's
+/// frame, `pz`); one blocked or totally reflected moves to the hit and keeps
+/// its direction.
+#[inline(always)]
+pub(crate) fn stopped(before: Lane<f64>, next: Lane<f64>, pz: f64, kind: u64) -> Lane<f64> {
+    if kind == MISSED {
+        Lane { pz, ..before }
+    } else {
+        Lane { dx: before.dx, dy: before.dy, dz: before.dz, ..next }
+    }
+}
+
+/// [`step_lanes`] with the step's `refract` and `plane` flags turned into
+/// the kernel's constants.
+#[inline(always)]
+pub(crate) fn step_dispatch<L: Real>(s: &Step, k: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
+    match (s.refract, s.plane) {
+        (true, false) => step_lanes::<L, true, false>(k, l),
+        (true, true) => step_lanes::<L, true, true>(k, l),
+        (false, false) => step_lanes::<L, false, false>(k, l),
+        (false, true) => step_lanes::<L, false, true>(k, l),
+    }
 }
 
 /// A prescription laid out for tracing in one direction. Cheap to build;
@@ -169,6 +260,7 @@ impl Tracer {
             vertex_z: z[last] + film_distance,
             surface: s.len(),
             refract: false,
+            plane: true,
         });
         Tracer { steps, direction: Direction::ObjectToImage }
     }
@@ -220,7 +312,7 @@ impl Tracer {
 
     /// [`Self::walk`] with hardware fused multiply-add where the CPU has it.
     #[inline(always)]
-    fn walk_fastest(&self, ray: Ray, visit: impl FnMut(&Step, &Lane, u64)) -> Outcome {
+    fn walk_fastest(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
         #[cfg(target_arch = "x86_64")]
         if simd_fma() {
             // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
@@ -234,7 +326,7 @@ impl Tracer {
     /// the instruction, so this only changes the speed, never the bits.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    fn walk_fma(&self, ray: Ray, visit: impl FnMut(&Step, &Lane, u64)) -> Outcome {
+    fn walk_fma(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
         self.walk(ray, visit)
     }
 
@@ -243,7 +335,7 @@ impl Tracer {
     /// layout drawing shows. The outcome is that of [`Self::trace`].
     pub fn trace_path(&self, ray: Ray) -> (Vec<DVec3>, Outcome) {
         let mut path = vec![ray.origin];
-        let visit = |s: &Step, l: &Lane, kind: u64| {
+        let visit = |s: &Step, l: &Lane<f64>, kind: u64| {
             if kind != MISSED {
                 path.push(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
             }
@@ -257,7 +349,7 @@ impl Tracer {
     /// without recording the whole path.
     pub fn trace_at_surface(&self, ray: Ray, surface: usize) -> (Outcome, Option<DVec3>) {
         let mut at = None;
-        let visit = |s: &Step, l: &Lane, kind: u64| {
+        let visit = |s: &Step, l: &Lane<f64>, kind: u64| {
             if s.surface == surface && kind != MISSED {
                 at = Some(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
             }
@@ -269,8 +361,8 @@ impl Tracer {
     /// Carries `ray` step by step until it stops, showing `visit` each
     /// step's result.
     #[inline(always)]
-    fn walk(&self, ray: Ray, mut visit: impl FnMut(&Step, &Lane, u64)) -> Outcome {
-        let mut l = Lane {
+    fn walk(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
+        let start = Lane {
             px: ray.origin.x,
             py: ray.origin.y,
             pz: ray.origin.z,
@@ -279,19 +371,35 @@ impl Tracer {
             dz: ray.direction.z,
             opl: 0.0,
         };
+        let (l, k, kind) = self.walk_lane(start, visit);
+        self.outcome(l, k, kind)
+    }
+
+    /// Carries one ray from `l` (global frame) step by step until it stops;
+    /// returns its state in the frame of the step `k` where it stopped (the
+    /// last when it passed every one) and the kind of the stop.
+    #[inline(always)]
+    pub(crate) fn walk_lane(
+        &self,
+        mut l: Lane<f64>,
+        mut visit: impl FnMut(&Step, &Lane<f64>, u64),
+    ) -> (Lane<f64>, usize, u64) {
         for (k, s) in self.steps.iter().enumerate() {
-            let (next, kind) = if s.refract { step_lane::<true>(s, l) } else { step_lane::<false>(s, l) };
-            l = next;
-            visit(s, &l, kind);
+            let out = step_dispatch(s, &StepLanes::of(s), l);
+            let kind = out.verdict.kind();
             if kind != PASSED {
-                return self.outcome(l, k, kind);
+                l = stopped(l, out.next, out.pz, kind);
+                visit(s, &l, kind);
+                return (l, k, kind);
             }
+            l = out.next;
+            visit(s, &l, kind);
         }
-        self.outcome(l, self.steps.len() - 1, PASSED)
+        (l, self.steps.len() - 1, PASSED)
     }
 
     /// Builds the outcome of a ray whose state `l` is in the frame of step `k`.
-    pub(crate) fn outcome(&self, l: Lane, k: usize, kind: u64) -> Outcome {
+    pub(crate) fn outcome(&self, l: Lane<f64>, k: usize, kind: u64) -> Outcome {
         let z = l.pz + self.steps[k].vertex_z;
         self.classify(
             Ray { origin: DVec3::new(l.px, l.py, z), direction: DVec3::new(l.dx, l.dy, l.dz) },
@@ -323,5 +431,6 @@ fn surface_step(surf: &crate::Surface, i: usize, n1: f64, n2: f64, shift: f64, v
         vertex_z,
         surface: i,
         refract: n1 != n2,
+        plane: surf.curvature == 0.0,
     }
 }

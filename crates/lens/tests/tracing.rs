@@ -114,6 +114,80 @@ fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
     }
 }
 
+/// Every kind of ray, bit for bit: wild rays (wide angles, outside the
+/// apertures, parallel to planes, some already finished) through every
+/// shipped lens both ways, in batches of awkward lengths.
+#[test]
+fn batch_is_bit_for_bit_the_one_ray_path_for_wild_rays() {
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut uniform = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut kinds = [0usize; 4];
+    for (name, p) in shipped_lenses() {
+        let reach = p.surfaces().iter().filter_map(|s| s.semi_diameter).fold(0.0, f64::max) * 1.5;
+        let film_z = p.last_vertex_z() + p.film_distance();
+        for (tracer, z0, towards) in [(Tracer::forward(&p), -30.0, 1.0), (Tracer::reverse(&p), film_z + 5.0, -1.0)] {
+            for len in [1usize, 3, 4, 5, 63, 64, 65, 131, 1000] {
+                let mut batch = RayBatch::default();
+                let mut rays = Vec::new();
+                for i in 0..len {
+                    let (x, y) = (reach * (2.0 * uniform() - 1.0), reach * (2.0 * uniform() - 1.0));
+                    let theta = 1.5 * uniform();
+                    let phi = std::f64::consts::TAU * uniform();
+                    let mut d = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), towards * theta.cos());
+                    if i % 17 == 5 {
+                        d = DVec3::new(phi.cos(), phi.sin(), 0.0); // parallel to every plane
+                    }
+                    let r = Ray::new(DVec3::new(x, y, z0), d).unwrap();
+                    batch.push(r);
+                    rays.push(r);
+                }
+                // a few rays already finished: the batch leaves them alone
+                for i in (2..len).step_by(29) {
+                    batch.status[i] = 1 << 2 | 2;
+                }
+                let before = batch.clone();
+                let mut out = vec![Outcome::default(); len];
+                tracer.trace_batch(&rays, &mut out);
+                tracer.trace_soa(&mut batch);
+                for (i, r) in rays.iter().enumerate() {
+                    let one = tracer.trace(*r);
+                    let same = |a: &Outcome, b: &Outcome| {
+                        std::mem::discriminant(a) == std::mem::discriminant(b)
+                            && a.ray().origin.to_array().map(f64::to_bits)
+                                == b.ray().origin.to_array().map(f64::to_bits)
+                            && a.ray().direction.to_array().map(f64::to_bits)
+                                == b.ray().direction.to_array().map(f64::to_bits)
+                            && a.opl().to_bits() == b.opl().to_bits()
+                    };
+                    assert!(same(&one, &out[i]), "{name} ray {i} of {len}: batch {:?} vs {:?}", out[i], one);
+                    if before.status[i] != 0 {
+                        assert_eq!(batch.status[i], before.status[i]);
+                        assert_eq!(batch.x[i].to_bits(), before.x[i].to_bits());
+                        assert_eq!(batch.z[i].to_bits(), before.z[i].to_bits());
+                        assert_eq!(batch.dz[i].to_bits(), before.dz[i].to_bits());
+                        continue;
+                    }
+                    let soa = tracer.outcome_of(&batch, i);
+                    assert!(same(&one, &soa), "{name} ray {i} of {len}: soa {soa:?} vs {one:?}");
+                    kinds[match one {
+                        Outcome::Reached { .. } => 0,
+                        Outcome::Blocked { .. } => 1,
+                        Outcome::Missed { .. } => 2,
+                        Outcome::TotalInternalReflection { .. } => 3,
+                    }] += 1;
+                }
+            }
+        }
+    }
+    // every outcome was exercised
+    assert!(kinds.iter().all(|&k| k > 0), "outcomes reached/blocked/missed/TIR: {kinds:?}");
+}
+
 #[test]
 fn blocked_rays_carry_the_surface_and_hit_point() {
     let p = singlet(Some(50.0), Some(-50.0), 5.0, 1.5, 10.0, 60.0);

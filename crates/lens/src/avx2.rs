@@ -1,0 +1,170 @@
+//! Four f64 lanes in one AVX2 register, implementing [`Real`] with one
+//! instruction per operation (fused multiply-add from the FMA extension).
+//!
+//! Values of these types are made only inside functions compiled with
+//! `#[target_feature(enable = "avx2,fma")]`, which the batch tracer calls
+//! only after [`crate::trace::simd_fma`] found both extensions; every
+//! intrinsic below relies on that.
+
+use crate::lanes::{Mask, Real, SIGN};
+use std::arch::x86_64::*;
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+/// Four f64 lanes.
+#[derive(Clone, Copy)]
+pub(crate) struct F64x4(__m256d);
+
+/// Four truth values, each lane all ones (true) or all zeros (false).
+#[derive(Clone, Copy)]
+pub(crate) struct M64x4(__m256d);
+
+impl F64x4 {
+    /// Loads four values from `s[0..4]`.
+    #[inline(always)]
+    pub(crate) fn load(s: &[f64; 4]) -> Self {
+        // SAFETY: AVX is available (module invariant); the array has 4 lanes.
+        F64x4(unsafe { _mm256_loadu_pd(s.as_ptr()) })
+    }
+
+    /// Stores the four lanes into `s[0..4]`.
+    #[inline(always)]
+    pub(crate) fn store(self, s: &mut [f64; 4]) {
+        // SAFETY: as in `load`.
+        unsafe { _mm256_storeu_pd(s.as_mut_ptr(), self.0) }
+    }
+}
+
+impl M64x4 {
+    /// True in the lanes of `s[0..4]` that are zero.
+    #[inline(always)]
+    pub(crate) fn is_zero(s: &[u64; 4]) -> Self {
+        // SAFETY: AVX2 is available (module invariant); the array has 4 lanes.
+        M64x4(unsafe {
+            let v = _mm256_loadu_si256(s.as_ptr().cast());
+            _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, _mm256_setzero_si256()))
+        })
+    }
+
+    /// One bit per lane (bit j set when lane j is true).
+    #[inline(always)]
+    pub(crate) fn bits(self) -> u32 {
+        // SAFETY: AVX is available (module invariant).
+        unsafe { _mm256_movemask_pd(self.0) as u32 }
+    }
+}
+
+macro_rules! binary {
+    ($trait:ident, $method:ident, $ty:ident, $intrinsic:ident) => {
+        impl $trait for $ty {
+            type Output = $ty;
+            #[inline(always)]
+            fn $method(self, o: $ty) -> $ty {
+                // SAFETY: AVX is available (module invariant).
+                $ty(unsafe { $intrinsic(self.0, o.0) })
+            }
+        }
+    };
+}
+
+binary!(Add, add, F64x4, _mm256_add_pd);
+binary!(Sub, sub, F64x4, _mm256_sub_pd);
+binary!(Mul, mul, F64x4, _mm256_mul_pd);
+binary!(Div, div, F64x4, _mm256_div_pd);
+binary!(BitAnd, bitand, M64x4, _mm256_and_pd);
+binary!(BitOr, bitor, M64x4, _mm256_or_pd);
+
+impl Neg for F64x4 {
+    type Output = F64x4;
+    #[inline(always)]
+    fn neg(self) -> F64x4 {
+        self.xor(F64x4::splat(-0.0))
+    }
+}
+
+impl Not for M64x4 {
+    type Output = M64x4;
+    #[inline(always)]
+    fn not(self) -> M64x4 {
+        M64x4::all_true() ^ self
+    }
+}
+
+impl std::ops::BitXor for M64x4 {
+    type Output = M64x4;
+    #[inline(always)]
+    fn bitxor(self, o: M64x4) -> M64x4 {
+        // SAFETY: AVX is available (module invariant).
+        M64x4(unsafe { _mm256_xor_pd(self.0, o.0) })
+    }
+}
+
+impl Mask for M64x4 {
+    #[inline(always)]
+    fn all_true() -> Self {
+        // SAFETY: AVX is available (module invariant).
+        M64x4(unsafe { _mm256_castsi256_pd(_mm256_set1_epi64x(-1)) })
+    }
+}
+
+impl Real for F64x4 {
+    type Mask = M64x4;
+
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_set1_pd(v) })
+    }
+    #[inline(always)]
+    fn fma(self, a: Self, b: Self) -> Self {
+        // SAFETY: FMA is available (module invariant).
+        F64x4(unsafe { _mm256_fmadd_pd(self.0, a.0, b.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_sqrt_pd(self.0) })
+    }
+    #[inline(always)]
+    fn pos_or_zero(self) -> Self {
+        // maxpd returns its second operand when either is NaN or both are
+        // zero: +0 then, as the scalar definition says.
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_max_pd(self.0, _mm256_setzero_pd()) })
+    }
+    #[inline(always)]
+    fn sign_bit(self) -> Self {
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_and_pd(self.0, _mm256_castsi256_pd(_mm256_set1_epi64x(SIGN as i64))) })
+    }
+    #[inline(always)]
+    fn xor(self, o: Self) -> Self {
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_xor_pd(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn or(self, o: Self) -> Self {
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_or_pd(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> M64x4 {
+        // SAFETY: AVX is available (module invariant).
+        M64x4(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> M64x4 {
+        // SAFETY: AVX is available (module invariant).
+        M64x4(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> M64x4 {
+        // SAFETY: AVX is available (module invariant).
+        M64x4(unsafe { _mm256_cmp_pd::<_CMP_GE_OQ>(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn is_finite(self) -> M64x4 {
+        // SAFETY: AVX is available (module invariant).
+        let abs = F64x4(unsafe { _mm256_andnot_pd(F64x4::splat(-0.0).0, self.0) });
+        abs.lt(F64x4::splat(f64::INFINITY))
+    }
+}

@@ -1,0 +1,112 @@
+//! The number type the tracing kernel is written over.
+//!
+//! The intersection, refraction and step kernels are written once, generic
+//! over [`Real`]: `f64` traces one ray (the one-ray path), and
+//! `crate::avx2::F64x4` four rays at a time in AVX2 registers (the batch
+//! path). Every operation of the trait is one IEEE 754 operation with the
+//! same rounding in both (a `mul_add` is one fused multiply-add, rounded
+//! once; comparisons are ordered, false on NaN), so both paths give the same
+//! bits for every ray.
+
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+/// Bit pattern of the sign of an f64.
+pub(crate) const SIGN: u64 = 1 << 63;
+
+/// Numbers for one ray (`f64`) or for several rays at once (one per lane).
+pub(crate) trait Real:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    /// One truth value per lane.
+    type Mask: Mask;
+    /// `v` in every lane.
+    fn splat(v: f64) -> Self;
+    /// `self * a + b`, rounded once.
+    fn fma(self, a: Self, b: Self) -> Self;
+    /// Correctly rounded square root.
+    fn sqrt(self) -> Self;
+    /// `self` where it is greater than zero, `+0` otherwise (NaN too): what
+    /// x86's `maxpd(self, 0)` computes.
+    fn pos_or_zero(self) -> Self;
+    /// The sign bit of `self` alone: `+0` or `-0`.
+    fn sign_bit(self) -> Self;
+    /// Bitwise exclusive or: `x.xor(s.sign_bit())` flips the sign of `x`
+    /// where `s` is negative.
+    fn xor(self, o: Self) -> Self;
+    /// Bitwise or: `m.or(s.sign_bit())` is `copysign(m, s)` for `m >= +0`.
+    fn or(self, o: Self) -> Self;
+    /// `self < o`, false on NaN.
+    fn lt(self, o: Self) -> Self::Mask;
+    /// `self <= o`, false on NaN.
+    fn le(self, o: Self) -> Self::Mask;
+    /// `self >= o`, false on NaN.
+    fn ge(self, o: Self) -> Self::Mask;
+    /// `|self| < infinity`: false on infinities and NaN.
+    fn is_finite(self) -> Self::Mask;
+}
+
+/// Truth values, one per lane.
+pub(crate) trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> {
+    /// True in every lane.
+    fn all_true() -> Self;
+}
+
+impl Mask for bool {
+    #[inline(always)]
+    fn all_true() -> Self {
+        true
+    }
+}
+
+impl Real for f64 {
+    type Mask = bool;
+
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn fma(self, a: Self, b: Self) -> Self {
+        f64::mul_add(self, a, b)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn pos_or_zero(self) -> Self {
+        if self > 0.0 {
+            self
+        } else {
+            0.0
+        }
+    }
+    #[inline(always)]
+    fn sign_bit(self) -> Self {
+        f64::from_bits(self.to_bits() & SIGN)
+    }
+    #[inline(always)]
+    fn xor(self, o: Self) -> Self {
+        f64::from_bits(self.to_bits() ^ o.to_bits())
+    }
+    #[inline(always)]
+    fn or(self, o: Self) -> Self {
+        f64::from_bits(self.to_bits() | o.to_bits())
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> bool {
+        self < o
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self <= o
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> bool {
+        self >= o
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        self.abs() < f64::INFINITY
+    }
+}

@@ -77,7 +77,7 @@ impl RayBatch {
 
 /// Rays traced per chunk: all surfaces are applied to a chunk before the
 /// next, so that it (8 KiB) stays in the L1 cache.
-const CHUNK: usize = 64;
+const CHUNK: usize = 32;
 
 /// Vectors of four rays per chunk.
 #[cfg(target_arch = "x86_64")]
@@ -283,31 +283,54 @@ impl Tracer {
         let mut start = 0;
         while start < n {
             let m = (n - start).min(CHUNK);
-            for i in 0..m {
-                let b = start + i;
-                let l = Lane {
-                    px: batch.x[b],
-                    py: batch.y[b],
-                    pz: batch.z[b],
-                    dx: batch.dx[b],
-                    dy: batch.dy[b],
-                    dz: batch.dz[b],
-                    opl: batch.opl[b],
-                };
-                c.put(i, l, batch.status[b]);
+            let r = start..start + m;
+            let live = &mut c.live[0];
+            for (to, from) in [
+                (&mut live.x, &batch.x),
+                (&mut live.y, &batch.y),
+                (&mut live.z, &batch.z),
+                (&mut live.dx, &batch.dx),
+                (&mut live.dy, &batch.dy),
+                (&mut live.dz, &batch.dz),
+                (&mut live.opl, &batch.opl),
+            ] {
+                to.as_flattened_mut()[..m].copy_from_slice(&from[r.clone()]);
+            }
+            c.status.as_flattened_mut()[..m].copy_from_slice(&batch.status[r.clone()]);
+            for (i, st) in batch.status[r.clone()].iter().enumerate() {
+                if *st != 0 {
+                    c.put(i, c.live[0].get(i), *st);
+                }
             }
             self.trace_chunk(&mut c, m);
-            for i in 0..m {
-                let b = start + i;
-                let (l, st) = c.take(i, self.steps.len(), last_z);
-                batch.x[b] = l.px;
-                batch.y[b] = l.py;
-                batch.z[b] = l.pz;
-                batch.dx[b] = l.dx;
-                batch.dy[b] = l.dy;
-                batch.dz[b] = l.dz;
-                batch.opl[b] = l.opl;
-                batch.status[b] = st;
+            let fin = &c.live[self.steps.len() % 2];
+            for (to, from) in [
+                (&mut batch.x, &fin.x),
+                (&mut batch.y, &fin.y),
+                (&mut batch.z, &fin.z),
+                (&mut batch.dx, &fin.dx),
+                (&mut batch.dy, &fin.dy),
+                (&mut batch.dz, &fin.dz),
+                (&mut batch.opl, &fin.opl),
+            ] {
+                to[r.clone()].copy_from_slice(&from.as_flattened()[..m]);
+            }
+            for z in &mut batch.z[r.clone()] {
+                *z += last_z;
+            }
+            batch.status[r.clone()].copy_from_slice(&c.status.as_flattened()[..m]);
+            for (i, st) in c.status.as_flattened()[..m].iter().enumerate() {
+                if *st != 0 {
+                    let l = c.done.get(i);
+                    let b = start + i;
+                    batch.x[b] = l.px;
+                    batch.y[b] = l.py;
+                    batch.z[b] = l.pz;
+                    batch.dx[b] = l.dx;
+                    batch.dy[b] = l.dy;
+                    batch.dz[b] = l.dz;
+                    batch.opl[b] = l.opl;
+                }
             }
             start += m;
         }

@@ -6,7 +6,7 @@
 #[cfg(target_arch = "x86_64")]
 use crate::avx2::{F64x4, M64x4};
 #[cfg(target_arch = "x86_64")]
-use crate::intersect::{approach, meet_plane, meet_sphere, Approach};
+use crate::intersect::{approach, cos_of, meet_plane, meet_sphere, Approach};
 use crate::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]
 use crate::trace::{finish_step, kind_of, simd_fma, stopped, Step, StepLanes};
@@ -357,7 +357,7 @@ impl Tracer {
         }
     }
 
-    /// Runs every step over the first `m` rays of the chunk, in place.
+    /// Runs every step over the first `m` rays of the chunk.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn trace_chunk(&self, c: &mut Chunk, m: usize) {
@@ -373,14 +373,39 @@ impl Tracer {
     }
 }
 
+/// The first half of a sphere step ([`approach`], split before the square
+/// root) for vector `j` of `rays`, into `to`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn approach_vector(sl: &StepLanes<F64x4>, rays: &Rays4, j: usize, to: &mut Approach4) {
+    let ap = approach(
+        sl.c,
+        F64x4::load(&rays.x[j]),
+        F64x4::load(&rays.y[j]),
+        F64x4::load(&rays.z[j]) - sl.shift,
+        F64x4::load(&rays.dx[j]),
+        F64x4::load(&rays.dy[j]),
+        F64x4::load(&rays.dz[j]),
+    );
+    ap.t0.store(&mut to.t0);
+    ap.x0.store(&mut to.x0);
+    ap.y0.store(&mut to.y0);
+    ap.z0.store(&mut to.z0);
+    ap.f.store(&mut to.f);
+    ap.g.store(&mut to.g);
+    ap.disc.store(&mut to.disc);
+}
+
 /// Step `k` applied to the first `n` vectors of a chunk, four rays per
 /// vector, from `live[k % 2]` into the other buffer, every lane computed and
 /// stored without masking. The rare vector where a travelling ray stops takes
 /// [`stop_lanes`].
 ///
-/// A sphere takes two passes over the chunk, split before the square root:
-/// each pass's chain of dependent operations is short enough that the
-/// processor runs several vectors at once (one pass was 1.5 times slower).
+/// A sphere takes two passes over the chunk, split before the square roots
+/// ([`approach_vector`], then the rest): each pass's chain of dependent
+/// operations is short enough that the processor runs several vectors at
+/// once. One pass per step was 1.5 times slower; so was the second pass of
+/// a step fused with the first of the next (docs/performance.md).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mut Chunk, n: usize) {
@@ -390,23 +415,7 @@ fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mu
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     if !PLANE {
         for j in 0..n {
-            let ap = approach(
-                sl.c,
-                F64x4::load(&src.x[j]),
-                F64x4::load(&src.y[j]),
-                F64x4::load(&src.z[j]) - sl.shift,
-                F64x4::load(&src.dx[j]),
-                F64x4::load(&src.dy[j]),
-                F64x4::load(&src.dz[j]),
-            );
-            let st = &mut c.approach[j];
-            ap.t0.store(&mut st.t0);
-            ap.x0.store(&mut st.x0);
-            ap.y0.store(&mut st.y0);
-            ap.z0.store(&mut st.z0);
-            ap.f.store(&mut st.f);
-            ap.g.store(&mut st.g);
-            ap.disc.store(&mut st.disc);
+            approach_vector(&sl, src, j, &mut c.approach[j]);
         }
     }
     for j in 0..n {
@@ -431,9 +440,10 @@ fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mu
                 g: F64x4::load(&st.g),
                 disc: F64x4::load(&st.disc),
             };
-            meet_sphere(sl.c, ap, d[0], d[1], d[2])
+            meet_sphere(sl.c, ap, cos_of(&ap), d[0], d[1], d[2])
         };
-        let out = finish_step::<F64x4, REFRACT>(&sl, h, d, F64x4::load(&src.opl[j]));
+        let root_k = if REFRACT { sl.root_k(h.cos2) } else { h.cos2 };
+        let out = finish_step::<F64x4, REFRACT>(&sl, h, root_k, d, F64x4::load(&src.opl[j]));
         let o = out.next;
         o.px.store(&mut dst.x[j]);
         o.py.store(&mut dst.y[j]);

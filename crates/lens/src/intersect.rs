@@ -69,7 +69,8 @@ pub(crate) fn intersect_lanes<L: Real, const PLANE: bool>(
     if PLANE {
         meet_plane(px, py, pz, dx, dy, dz)
     } else {
-        meet_sphere(c, approach(c, px, py, pz, dx, dy, dz), dx, dy, dz)
+        let a = approach(c, px, py, pz, dx, dy, dz);
+        meet_sphere(c, a, cos_of(&a), dx, dy, dz)
     }
 }
 
@@ -117,18 +118,25 @@ pub(crate) fn approach<L: Real>(c: L, px: L, py: L, pz: L, dx: L, dy: L, dz: L) 
     Approach { t0, x0, y0, z0, f, g, disc }
 }
 
-/// Steps 4 and 5: the rationalised root from the closest approach `a`, and
-/// the test that the hit lies on the cap around the vertex.
+/// `s sqrt(disc)` (s the sign of G): the square root of step 4, which is
+/// also the cosine of incidence `D . N` at the hit.
 ///
-/// The cosine of incidence comes with the root, as in Welford's skew-ray
-/// trace: the quadratic `c t^2 - 2 G t + F = 0` has the root
-/// `t1 = F / (G + s sqrt(disc)) = (G - s sqrt(disc)) / c` (s the sign of G),
-/// and `D . N = G - c t1 = s sqrt(disc)`. Refraction then needs no dot
-/// product, and it does not wait for the division.
+/// The cosine comes with the root, as in Welford's skew-ray trace: the
+/// quadratic `c t^2 - 2 G t + F = 0` has the root
+/// `t1 = F / (G + s sqrt(disc)) = (G - s sqrt(disc)) / c`, and
+/// `D . N = G - c t1 = s sqrt(disc)`. Refraction then needs no dot product,
+/// and it does not wait for the division.
 #[inline(always)]
-pub(crate) fn meet_sphere<L: Real>(c: L, a: Approach<L>, dx: L, dy: L, dz: L) -> LaneHit<L> {
-    // 4. rationalised root, no cancellation: s sqrt(disc) is D . N
-    let cos = a.disc.pos_or_zero().sqrt().or(a.g.sign_bit());
+pub(crate) fn cos_of<L: Real>(a: &Approach<L>) -> L {
+    a.disc.pos_or_zero().sqrt().or(a.g.sign_bit())
+}
+
+/// Steps 4 and 5: the rationalised root from the closest approach `a` and
+/// `cos` = [`cos_of`]`(a)`, and the test that the hit lies on the cap
+/// around the vertex.
+#[inline(always)]
+pub(crate) fn meet_sphere<L: Real>(c: L, a: Approach<L>, cos: L, dx: L, dy: L, dz: L) -> LaneHit<L> {
+    // 4. rationalised root, no cancellation
     let t1 = a.f / (a.g + cos);
     let x = t1.fma(dx, a.x0);
     let y = t1.fma(dy, a.y0);

@@ -19,18 +19,9 @@ use glam::DVec3;
 pub fn refract(d: DVec3, n: DVec3, n1: f64, n2: f64) -> Option<DVec3> {
     let mu = n1 / n2;
     let cos = d.dot(n);
-    let r = refract_lanes::<f64>(d.x, d.y, d.z, n.x, n.y, n.z, mu, one_minus_square(mu), cos, cos * cos);
-    r.ok.then(|| DVec3::new(r.x, r.y, r.z))
-}
-
-/// Result of [`refract_lanes`], per lane; where `ok` is false (total
-/// internal reflection) the direction is meaningless.
-#[derive(Debug, Clone, Copy)]
-pub(crate) struct LaneDir<L: Real> {
-    pub x: L,
-    pub y: L,
-    pub z: L,
-    pub ok: L::Mask,
+    let k = snell_k(mu * mu, one_minus_square(mu), cos * cos);
+    let r = refract_lanes::<f64>(d.x, d.y, d.z, n.x, n.y, n.z, mu, cos, k.pos_or_zero().sqrt());
+    (k >= 0.0).then(|| DVec3::new(r[0], r[1], r[2]))
 }
 
 /// `1 - mu^2`, rounded once: the constant part of Snell's `k`.
@@ -39,29 +30,26 @@ pub(crate) fn one_minus_square(mu: f64) -> f64 {
     (-mu).mul_add(mu, 1.0)
 }
 
-/// Refraction, branch-free, generic over one ray or several ([`Real`]),
-/// shared by the one-ray and the batch tracers. `mu = n1 / n2`,
-/// `one_minus_mu2` is [`one_minus_square`]`(mu)`, `cos = D . N` (either
-/// sign: the normal is turned along the ray by flipping signs with its sign
-/// bit) and `cos2` its square. `k = 1 - mu^2 (1 - cos^2)` is computed as
-/// `mu^2 cos^2 + (1 - mu^2)`, from the square the intersection already has.
+/// Snell's `k = 1 - mu^2 (1 - cos^2) = (n' cos I' / n)^2 mu^2`, computed as
+/// `mu^2 cos^2 + (1 - mu^2)` from the square of the cosine of incidence
+/// (which the intersection already has). `k < 0` is total internal
+/// reflection.
+#[inline(always)]
+pub(crate) fn snell_k<L: Real>(mu2: L, one_minus_mu2: L, cos2: L) -> L {
+    mu2.fma(cos2, one_minus_mu2)
+}
+
+/// The refracted direction, branch-free, generic over one ray or several
+/// ([`Real`]), shared by the one-ray and the batch tracers:
+/// `d' = mu d + (sqrt(k) - mu cos_i) N`, with `mu = n1 / n2`, `cos = D . N`
+/// of either sign (the normal is turned along the ray by flipping signs with
+/// its sign bit) and `root_k` the square root of [`snell_k`] (of its positive
+/// part). Meaningless where `k < 0`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub(crate) fn refract_lanes<L: Real>(
-    dx: L,
-    dy: L,
-    dz: L,
-    nx: L,
-    ny: L,
-    nz: L,
-    mu: L,
-    one_minus_mu2: L,
-    cos: L,
-    cos2: L,
-) -> LaneDir<L> {
+pub(crate) fn refract_lanes<L: Real>(dx: L, dy: L, dz: L, nx: L, ny: L, nz: L, mu: L, cos: L, root_k: L) -> [L; 3] {
     let flip = cos.sign_bit();
     let cos_i = cos.xor(flip);
-    let k = (mu * mu).fma(cos2, one_minus_mu2);
-    let g = (-mu).fma(cos_i, k.pos_or_zero().sqrt()).xor(flip);
-    LaneDir { x: mu.fma(dx, g * nx), y: mu.fma(dy, g * ny), z: mu.fma(dz, g * nz), ok: k.ge(L::splat(0.0)) }
+    let g = (-mu).fma(cos_i, root_k).xor(flip);
+    [mu.fma(dx, g * nx), mu.fma(dy, g * ny), mu.fma(dz, g * nz)]
 }

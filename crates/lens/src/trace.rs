@@ -6,11 +6,11 @@
 //! the clear aperture and refracted by [`crate::refract`]. The batch tracer in
 //! [`crate::batch`] runs the same per-surface kernel, so both agree bit for bit.
 
-use crate::intersect::{approach, meet_plane, meet_sphere, LaneHit};
+use crate::intersect::{approach, cos_of, meet_plane, meet_sphere, LaneHit};
 use crate::lanes::{Mask, Real};
 use crate::prescription::Prescription;
 use crate::ray::{Outcome, Ray};
-use crate::refract::{one_minus_square, refract_lanes};
+use crate::refract::{one_minus_square, refract_lanes, snell_k};
 use glam::DVec3;
 
 /// Which way rays travel through the prescription.
@@ -113,6 +113,7 @@ pub(crate) struct StepLanes<L> {
     pub c: L,
     sd2: L,
     mu: L,
+    mu2: L,
     one_minus_mu2: L,
     n_before: L,
     pub shift: L,
@@ -125,6 +126,7 @@ impl<L: Real> StepLanes<L> {
             c: L::splat(s.c),
             sd2: L::splat(s.sd2),
             mu: L::splat(s.mu),
+            mu2: L::splat(s.mu * s.mu),
             one_minus_mu2: L::splat(one_minus_square(s.mu)),
             n_before: L::splat(s.n_before),
             shift: L::splat(s.shift),
@@ -154,20 +156,38 @@ pub(crate) fn step_lanes<L: Real, const REFRACT: bool, const PLANE: bool>(s: &St
     let h = if PLANE {
         meet_plane(l.px, l.py, pz, l.dx, l.dy, l.dz)
     } else {
-        meet_sphere(s.c, approach(s.c, l.px, l.py, pz, l.dx, l.dy, l.dz), l.dx, l.dy, l.dz)
+        let a = approach(s.c, l.px, l.py, pz, l.dx, l.dy, l.dz);
+        meet_sphere(s.c, a, cos_of(&a), l.dx, l.dy, l.dz)
     };
-    let mut out = finish_step::<L, REFRACT>(s, h, [l.dx, l.dy, l.dz], l.opl);
+    let root_k = if REFRACT { s.root_k(h.cos2) } else { L::splat(0.0) };
+    let mut out = finish_step::<L, REFRACT>(s, h, root_k, [l.dx, l.dy, l.dz], l.opl);
     out.pz = pz;
     out
 }
 
+impl<L: Real> StepLanes<L> {
+    /// Snell's `k` at this step for the squared cosine of incidence `cos2`.
+    #[inline(always)]
+    pub(crate) fn k(&self, cos2: L) -> L {
+        snell_k(self.mu2, self.one_minus_mu2, cos2)
+    }
+
+    /// The square root of the positive part of [`Self::k`].
+    #[inline(always)]
+    pub(crate) fn root_k(&self, cos2: L) -> L {
+        self.k(cos2).pos_or_zero().sqrt()
+    }
+}
+
 /// The part of a step after the intersection `h`: clip, refract, add the
-/// path. `d` and `opl` are the ray's direction and path length before the
-/// step. (The result's `pz` is left 0: the caller knows it.)
+/// path. `root_k` is [`StepLanes::root_k`]`(h.cos2)` (unused without
+/// refraction); `d` and `opl` are the ray's direction and path length before
+/// the step. (The result's `pz` is left 0: the caller knows it.)
 #[inline(always)]
 pub(crate) fn finish_step<L: Real, const REFRACT: bool>(
     s: &StepLanes<L>,
     h: LaneHit<L>,
+    root_k: L,
     d: [L; 3],
     opl: L,
 ) -> StepOut<L> {
@@ -176,8 +196,8 @@ pub(crate) fn finish_step<L: Real, const REFRACT: bool>(
     let (dx, dy, dz, through) = if REFRACT {
         let negc = -s.c;
         let (nx, ny, nz) = (negc * h.x, negc * h.y, negc.fma(h.z, L::splat(1.0)));
-        let d = refract_lanes(dx, dy, dz, nx, ny, nz, s.mu, s.one_minus_mu2, h.cos, h.cos2);
-        (d.x, d.y, d.z, d.ok)
+        let [x, y, z] = refract_lanes(dx, dy, dz, nx, ny, nz, s.mu, h.cos, root_k);
+        (x, y, z, s.k(h.cos2).ge(L::splat(0.0)))
     } else {
         (dx, dy, dz, L::Mask::all_true())
     };

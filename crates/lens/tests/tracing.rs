@@ -71,6 +71,25 @@ fn near_axis_real_rays_reproduce_paraxial_focus_on_every_shipped_lens() {
     }
 }
 
+/// The same outcome, bit for bit.
+fn same(a: &Outcome, b: &Outcome) -> bool {
+    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+    std::mem::discriminant(a) == std::mem::discriminant(b)
+        && bits(a.ray().origin) == bits(b.ray().origin)
+        && bits(a.ray().direction) == bits(b.ray().direction)
+        && a.opl().to_bits() == b.opl().to_bits()
+}
+
+/// 0 reached, 1 blocked, 2 missed, 3 total internal reflection.
+fn kind_index(o: &Outcome) -> usize {
+    match o {
+        Outcome::Reached { .. } => 0,
+        Outcome::Blocked { .. } => 1,
+        Outcome::Missed { .. } => 2,
+        Outcome::TotalInternalReflection { .. } => 3,
+    }
+}
+
 #[test]
 fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
     for (name, p) in shipped_lenses() {
@@ -89,20 +108,9 @@ fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
         let mut kinds = [0usize; 4];
         for (i, r) in rays.iter().enumerate() {
             let one = w.tracer.trace(*r);
-            let same = |a: &Outcome, b: &Outcome| {
-                std::mem::discriminant(a) == std::mem::discriminant(b)
-                    && a.ray().origin.to_array().map(f64::to_bits) == b.ray().origin.to_array().map(f64::to_bits)
-                    && a.ray().direction.to_array().map(f64::to_bits) == b.ray().direction.to_array().map(f64::to_bits)
-                    && a.opl().to_bits() == b.opl().to_bits()
-            };
             assert!(same(&one, &w.tracer.outcome_of(&soa, i)), "{name} ray {i}: soa {:?} vs {:?}", soa.status[i], one);
             assert!(same(&one, &out[i]), "{name} ray {i}: batch {:?} vs {:?}", out[i], one);
-            kinds[match one {
-                Outcome::Reached { .. } => 0,
-                Outcome::Blocked { .. } => 1,
-                Outcome::Missed { .. } => 2,
-                Outcome::TotalInternalReflection { .. } => 3,
-            }] += 1;
+            kinds[kind_index(&one)] += 1;
             // and the reverse tracer agrees with itself too
             let back = Ray { origin: one.ray().origin, direction: -one.ray().direction };
             let mut b = RayBatch::default();
@@ -156,14 +164,6 @@ fn batch_is_bit_for_bit_the_one_ray_path_for_wild_rays() {
                 tracer.trace_soa(&mut batch);
                 for (i, r) in rays.iter().enumerate() {
                     let one = tracer.trace(*r);
-                    let same = |a: &Outcome, b: &Outcome| {
-                        std::mem::discriminant(a) == std::mem::discriminant(b)
-                            && a.ray().origin.to_array().map(f64::to_bits)
-                                == b.ray().origin.to_array().map(f64::to_bits)
-                            && a.ray().direction.to_array().map(f64::to_bits)
-                                == b.ray().direction.to_array().map(f64::to_bits)
-                            && a.opl().to_bits() == b.opl().to_bits()
-                    };
                     assert!(same(&one, &out[i]), "{name} ray {i} of {len}: batch {:?} vs {:?}", out[i], one);
                     if before.status[i] != 0 {
                         assert_eq!(batch.status[i], before.status[i]);
@@ -174,12 +174,7 @@ fn batch_is_bit_for_bit_the_one_ray_path_for_wild_rays() {
                     }
                     let soa = tracer.outcome_of(&batch, i);
                     assert!(same(&one, &soa), "{name} ray {i} of {len}: soa {soa:?} vs {one:?}");
-                    kinds[match one {
-                        Outcome::Reached { .. } => 0,
-                        Outcome::Blocked { .. } => 1,
-                        Outcome::Missed { .. } => 2,
-                        Outcome::TotalInternalReflection { .. } => 3,
-                    }] += 1;
+                    kinds[kind_index(&one)] += 1;
                 }
             }
         }

@@ -69,6 +69,30 @@ impl RayBatch {
         self.x.is_empty()
     }
 
+    /// Ray `i` as a kernel lane.
+    fn lane(&self, i: usize) -> Lane<f64> {
+        Lane {
+            px: self.x[i],
+            py: self.y[i],
+            pz: self.z[i],
+            dx: self.dx[i],
+            dy: self.dy[i],
+            dz: self.dz[i],
+            opl: self.opl[i],
+        }
+    }
+
+    /// Sets ray `i` from a kernel lane (global frame).
+    fn set_lane(&mut self, i: usize, l: Lane<f64>) {
+        self.x[i] = l.px;
+        self.y[i] = l.py;
+        self.z[i] = l.pz;
+        self.dx[i] = l.dx;
+        self.dy[i] = l.dy;
+        self.dz[i] = l.dz;
+        self.opl[i] = l.opl;
+    }
+
     /// Removes every ray, keeping the allocations.
     pub fn clear(&mut self) {
         for v in [&mut self.x, &mut self.y, &mut self.z, &mut self.dx, &mut self.dy, &mut self.dz, &mut self.opl] {
@@ -233,23 +257,8 @@ impl Tracer {
             if batch.status[i] != 0 {
                 continue;
             }
-            let start = Lane {
-                px: batch.x[i],
-                py: batch.y[i],
-                pz: batch.z[i],
-                dx: batch.dx[i],
-                dy: batch.dy[i],
-                dz: batch.dz[i],
-                opl: batch.opl[i],
-            };
-            let (l, k, kind) = self.walk_lane(start, |_, _, _| {});
-            batch.x[i] = l.px;
-            batch.y[i] = l.py;
-            batch.z[i] = l.pz + self.steps[k].vertex_z;
-            batch.dx[i] = l.dx;
-            batch.dy[i] = l.dy;
-            batch.dz[i] = l.dz;
-            batch.opl[i] = l.opl;
+            let (l, k, kind) = self.walk_lane(batch.lane(i), |_, _, _| {});
+            batch.set_lane(i, Lane { pz: l.pz + self.steps[k].vertex_z, ..l });
             batch.status[i] = if kind == PASSED { 0 } else { ((k as u64 + 1) << 2) | kind };
         }
     }
@@ -309,7 +318,7 @@ impl Tracer {
             c.status.as_flattened_mut()[..m].copy_from_slice(&batch.status[r.clone()]);
             for (i, st) in batch.status[r.clone()].iter().enumerate() {
                 if *st != 0 {
-                    c.put(i, c.live[0].get(i), *st);
+                    c.put(i, batch.lane(start + i), *st);
                 }
             }
             self.trace_chunk(&mut c, m);
@@ -331,15 +340,7 @@ impl Tracer {
             batch.status[r.clone()].copy_from_slice(&c.status.as_flattened()[..m]);
             for (i, st) in c.status.as_flattened()[..m].iter().enumerate() {
                 if *st != 0 {
-                    let l = c.done.get(i);
-                    let b = start + i;
-                    batch.x[b] = l.px;
-                    batch.y[b] = l.py;
-                    batch.z[b] = l.pz;
-                    batch.dx[b] = l.dx;
-                    batch.dy[b] = l.dy;
-                    batch.dz[b] = l.dz;
-                    batch.opl[b] = l.opl;
+                    batch.set_lane(start + i, c.done.get(i));
                 }
             }
             start += m;
@@ -452,8 +453,7 @@ fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mu
             };
             meet_sphere(sl.c, ap, cos_of(&ap), d[0], d[1], d[2])
         };
-        let root_k = if REFRACT { sl.root_k(h.cos2) } else { h.cos2 };
-        let out = finish_step::<F64x4, REFRACT>(&sl, h, root_k, d, F64x4::load(&src.opl[j]));
+        let out = finish_step::<F64x4, REFRACT>(&sl, h, d, F64x4::load(&src.opl[j]));
         let o = out.next;
         o.px.store(&mut dst.x[j]);
         o.py.store(&mut dst.y[j]);
@@ -495,8 +495,7 @@ fn stop_lanes(
         let [ok, inside, through] = verdict.map(|b| b >> lane & 1 != 0);
         let kind = kind_of(ok, inside, through);
         let i = j * 4 + lane;
-        let old = before.get(i);
-        let l = stopped(old, after.get(i), old.pz - s.shift, kind);
+        let l = stopped(s, before.get(i), after.get(i), kind);
         done.set(i, Lane { pz: l.pz + s.vertex_z, ..l });
         status[lane] = ((k as u64 + 1) << 2) | kind;
         after.set(i, IDLE);

@@ -6,7 +6,7 @@
 //! the clear aperture and refracted by [`crate::refract`]. The batch tracer in
 //! [`crate::batch`] runs the same per-surface kernel, so both agree bit for bit.
 
-use crate::intersect::{approach, cos_of, meet_plane, meet_sphere, LaneHit};
+use crate::intersect::{intersect_lanes, LaneHit};
 use crate::lanes::{Mask, Real};
 use crate::prescription::Prescription;
 use crate::ray::{Outcome, Ray};
@@ -132,6 +132,12 @@ impl<L: Real> StepLanes<L> {
             shift: L::splat(s.shift),
         }
     }
+
+    /// Snell's `k` at this step for the squared cosine of incidence `cos2`.
+    #[inline(always)]
+    fn k(&self, cos2: L) -> L {
+        snell_k(self.mu2, self.one_minus_mu2, cos2)
+    }
 }
 
 /// What one step does to rays, per lane.
@@ -140,8 +146,6 @@ pub(crate) struct StepOut<L: Real> {
     /// The ray as it goes on when it passed: on the surface, refracted, its
     /// path length grown by the index times the distance travelled.
     pub next: Lane<L>,
-    /// The ray's start z in the step's frame (where a missed ray stays).
-    pub pz: L,
     /// How the step went.
     pub verdict: Verdict<L::Mask>,
 }
@@ -152,42 +156,17 @@ pub(crate) struct StepOut<L: Real> {
 /// stopped here is given by [`stopped`].
 #[inline(always)]
 pub(crate) fn step_lanes<L: Real, const REFRACT: bool, const PLANE: bool>(s: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
-    let pz = l.pz - s.shift;
-    let h = if PLANE {
-        meet_plane(l.px, l.py, pz, l.dx, l.dy, l.dz)
-    } else {
-        let a = approach(s.c, l.px, l.py, pz, l.dx, l.dy, l.dz);
-        meet_sphere(s.c, a, cos_of(&a), l.dx, l.dy, l.dz)
-    };
-    let root_k = if REFRACT { s.root_k(h.cos2) } else { L::splat(0.0) };
-    let mut out = finish_step::<L, REFRACT>(s, h, root_k, [l.dx, l.dy, l.dz], l.opl);
-    out.pz = pz;
-    out
-}
-
-impl<L: Real> StepLanes<L> {
-    /// Snell's `k` at this step for the squared cosine of incidence `cos2`.
-    #[inline(always)]
-    pub(crate) fn k(&self, cos2: L) -> L {
-        snell_k(self.mu2, self.one_minus_mu2, cos2)
-    }
-
-    /// The square root of the positive part of [`Self::k`].
-    #[inline(always)]
-    pub(crate) fn root_k(&self, cos2: L) -> L {
-        self.k(cos2).pos_or_zero().sqrt()
-    }
+    let h = intersect_lanes::<L, PLANE>(s.c, l.px, l.py, l.pz - s.shift, l.dx, l.dy, l.dz);
+    finish_step::<L, REFRACT>(s, h, [l.dx, l.dy, l.dz], l.opl)
 }
 
 /// The part of a step after the intersection `h`: clip, refract, add the
-/// path. `root_k` is [`StepLanes::root_k`]`(h.cos2)` (unused without
-/// refraction); `d` and `opl` are the ray's direction and path length before
-/// the step. (The result's `pz` is left 0: the caller knows it.)
+/// path. `d` and `opl` are the ray's direction and path length before the
+/// step.
 #[inline(always)]
 pub(crate) fn finish_step<L: Real, const REFRACT: bool>(
     s: &StepLanes<L>,
     h: LaneHit<L>,
-    root_k: L,
     d: [L; 3],
     opl: L,
 ) -> StepOut<L> {
@@ -196,24 +175,25 @@ pub(crate) fn finish_step<L: Real, const REFRACT: bool>(
     let (dx, dy, dz, through) = if REFRACT {
         let negc = -s.c;
         let (nx, ny, nz) = (negc * h.x, negc * h.y, negc.fma(h.z, L::splat(1.0)));
-        let [x, y, z] = refract_lanes(dx, dy, dz, nx, ny, nz, s.mu, h.cos, root_k);
-        (x, y, z, s.k(h.cos2).ge(L::splat(0.0)))
+        let k = s.k(h.cos2);
+        let [x, y, z] = refract_lanes(dx, dy, dz, nx, ny, nz, s.mu, h.cos, k.pos_or_zero().sqrt());
+        (x, y, z, k.ge(L::splat(0.0)))
     } else {
         (dx, dy, dz, L::Mask::all_true())
     };
     let next = Lane { px: h.x, py: h.y, pz: h.z, dx, dy, dz, opl: s.n_before.fma(h.t, opl) };
-    StepOut { next, pz: L::splat(0.0), verdict: Verdict { ok: h.ok, inside, through, passed: h.ok & inside & through } }
+    StepOut { next, verdict: Verdict { ok: h.ok, inside, through, passed: h.ok & inside & through } }
 }
 
-/// The state of one ray that stopped at a step of kind `kind` (not
-/// [`PASSED`]), from its state `before` the step and the step's result: a
-/// missed ray keeps its direction and stays where it was (in the step's
-/// frame, `pz`); one blocked or totally reflected moves to the hit and keeps
-/// its direction.
+/// The state of one ray that stopped at step `s` with kind `kind` (not
+/// [`PASSED`]), from its state `before` the step and the step's result
+/// `next`: a missed ray keeps its direction and stays where it was (moved
+/// into the step's frame); one blocked or totally reflected moves to the hit
+/// and keeps its direction.
 #[inline(always)]
-pub(crate) fn stopped(before: Lane<f64>, next: Lane<f64>, pz: f64, kind: u64) -> Lane<f64> {
+pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -> Lane<f64> {
     if kind == MISSED {
-        Lane { pz, ..before }
+        Lane { pz: before.pz - s.shift, ..before }
     } else {
         Lane { dx: before.dx, dy: before.dy, dz: before.dz, ..next }
     }
@@ -408,7 +388,7 @@ impl Tracer {
             let out = step_dispatch(s, &StepLanes::of(s), l);
             let kind = out.verdict.kind();
             if kind != PASSED {
-                l = stopped(l, out.next, out.pz, kind);
+                l = stopped(s, l, out.next, kind);
                 visit(s, &l, kind);
                 return (l, k, kind);
             }

@@ -35,6 +35,13 @@ impl F64x4 {
 }
 
 impl M64x4 {
+    /// Stores the four lanes (all ones or all zeros, as f64 bit patterns)
+    /// into `s[0..4]`.
+    #[inline(always)]
+    pub(crate) fn store(self, s: &mut [f64; 4]) {
+        F64x4(self.0).store(s)
+    }
+
     /// True in the lanes of `s[0..4]` that are zero.
     #[inline(always)]
     pub(crate) fn is_zero(s: &[u64; 4]) -> Self {

@@ -9,10 +9,10 @@
 #[cfg(target_arch = "x86_64")]
 use crate::avx2::{F64x4, M64x4};
 #[cfg(target_arch = "x86_64")]
-use crate::intersect::{approach, cos_of, meet_plane, meet_sphere, Approach};
+use crate::intersect::{approach, Approach};
 use crate::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]
-use crate::trace::{finish_step, kind_of, simd_fma, stopped, Step, StepLanes};
+use crate::trace::{kind_of, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes};
 use crate::trace::{Lane, Tracer, PASSED};
 use glam::DVec3;
 
@@ -105,11 +105,33 @@ impl RayBatch {
 /// Rays traced per chunk: all surfaces are applied to a chunk before the
 /// next, so that its buffers (about 7 KiB) stay in the L1 cache. 32
 /// measured a little faster than 16, 64 or 128 (docs/performance.md).
-const CHUNK: usize = 32;
+const CHUNK: usize = 64;
 
 /// Vectors of four rays per chunk.
 #[cfg(target_arch = "x86_64")]
 const VECTORS: usize = CHUNK / 4;
+
+/// Bit `i` set where `status[i]` is not 0 (at most 64 entries), found
+/// without a branch per ray: stopped rays come in no pattern a branch
+/// predictor could learn.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn nonzero(status: &[u64]) -> u64 {
+    status.iter().enumerate().fold(0, |m, (i, st)| m | u64::from(*st != 0) << i)
+}
+
+/// The indices of the bits set in `m`, lowest first.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn ones(mut m: u64) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (m != 0).then(|| {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            i
+        })
+    })
+}
 
 /// Rays in groups of four (one AVX2 vector each), structure of arrays.
 #[cfg(target_arch = "x86_64")]
@@ -172,19 +194,20 @@ struct Chunk {
     /// 0 while travelling (or when reached), else as [`RayBatch::status`];
     /// `u64::MAX` for padding.
     status: [[u64; 4]; VECTORS],
-    /// Each vector's closest approach to a sphere, between the two passes
-    /// of a step.
+    /// Each vector's closest approach to a sphere, between the step's two
+    /// loops.
     approach: [Approach4; VECTORS],
+    /// The step's `ok` and `inside` verdicts per vector, kept for the rays
+    /// that stopped in it.
+    ok: [[f64; 4]; VECTORS],
+    inside: [[f64; 4]; VECTORS],
 }
 
-/// [`Approach`] of four rays, as stored between the passes.
+/// What the first loop of a sphere step leaves the second for four rays.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct Approach4 {
     t0: [f64; 4],
-    x0: [f64; 4],
-    y0: [f64; 4],
-    z0: [f64; 4],
     f: [f64; 4],
     g: [f64; 4],
     disc: [f64; 4],
@@ -196,8 +219,8 @@ impl Chunk {
         let v = [[0.0; 4]; VECTORS];
         let rays = Rays4 { x: v, y: v, z: v, dx: v, dy: v, dz: v, opl: v };
         let a = [0.0; 4];
-        let approach = [Approach4 { t0: a, x0: a, y0: a, z0: a, f: a, g: a, disc: a }; VECTORS];
-        Box::new(Chunk { live: [rays; 2], done: rays, status: [[0; 4]; VECTORS], approach })
+        let approach = [Approach4 { t0: a, f: a, g: a, disc: a }; VECTORS];
+        Box::new(Chunk { live: [rays; 2], done: rays, status: [[0; 4]; VECTORS], approach, ok: v, inside: v })
     }
 
     /// Puts ray `i` (global frame) with its status into the chunk.
@@ -223,8 +246,7 @@ impl Chunk {
         }
     }
 
-    /// Pads rays `m..` up to a whole vector with idle lanes; returns the
-    /// number of vectors.
+    /// Pads rays `m..` up to a whole vector with idle lanes and returns the number of vectors.
     fn pad(&mut self, m: usize) -> usize {
         let n = m.div_ceil(4);
         for i in m..n * 4 {
@@ -316,10 +338,8 @@ impl Tracer {
                 to.as_flattened_mut()[..m].copy_from_slice(&from[r.clone()]);
             }
             c.status.as_flattened_mut()[..m].copy_from_slice(&batch.status[r.clone()]);
-            for (i, st) in batch.status[r.clone()].iter().enumerate() {
-                if *st != 0 {
-                    c.put(i, batch.lane(start + i), *st);
-                }
+            for i in ones(nonzero(&batch.status[r.clone()])) {
+                c.put(i, batch.lane(start + i), batch.status[start + i]);
             }
             self.trace_chunk(&mut c, m);
             let fin = &c.live[self.steps.len() % 2];
@@ -338,10 +358,8 @@ impl Tracer {
                 *z += last_z;
             }
             batch.status[r.clone()].copy_from_slice(&c.status.as_flattened()[..m]);
-            for (i, st) in c.status.as_flattened()[..m].iter().enumerate() {
-                if *st != 0 {
-                    batch.set_lane(start + i, c.done.get(i));
-                }
+            for i in ones(nonzero(&c.status.as_flattened()[..m])) {
+                batch.set_lane(start + i, c.done.get(i));
             }
             start += m;
         }
@@ -384,12 +402,15 @@ impl Tracer {
     }
 }
 
-/// The first half of a sphere step ([`approach`], split before the square
-/// root) for vector `j` of `rays`, into `to`.
+/// The first loop of a sphere step for vector `j` of `rays`: the closest
+/// approach, the square roots and the division, kept in `to`; returns the
+/// truth values found (bits 0-3: `met`, 4-7: `through`).
+/// The first loop of a sphere step for vector `j` of `rays`: the closest
+/// approach, kept in `to`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn approach_vector(sl: &StepLanes<F64x4>, rays: &Rays4, j: usize, to: &mut Approach4) {
-    let ap = approach(
+    let a = approach(
         sl.c,
         F64x4::load(&rays.x[j]),
         F64x4::load(&rays.y[j]),
@@ -398,62 +419,54 @@ fn approach_vector(sl: &StepLanes<F64x4>, rays: &Rays4, j: usize, to: &mut Appro
         F64x4::load(&rays.dy[j]),
         F64x4::load(&rays.dz[j]),
     );
-    ap.t0.store(&mut to.t0);
-    ap.x0.store(&mut to.x0);
-    ap.y0.store(&mut to.y0);
-    ap.z0.store(&mut to.z0);
-    ap.f.store(&mut to.f);
-    ap.g.store(&mut to.g);
-    ap.disc.store(&mut to.disc);
+    a.t0.store(&mut to.t0);
+    a.f.store(&mut to.f);
+    a.g.store(&mut to.g);
+    a.disc.store(&mut to.disc);
 }
 
 /// Step `k` applied to the first `n` vectors of a chunk, four rays per
 /// vector, from `live[k % 2]` into the other buffer, every lane computed and
-/// stored without masking. The rare vector where a travelling ray stops takes
-/// [`stop_lanes`].
+/// stored without masking. Rays that stopped are recorded after the loop,
+/// on a rare path ([`stop_rays`]).
 ///
-/// A sphere takes two passes over the chunk, split before the square roots
-/// ([`approach_vector`], then the rest): each pass's chain of dependent
-/// operations is short enough that the processor runs several vectors at
-/// once. One pass per step was 1.5 times slower; so was the second pass of
-/// a step fused with the first of the next (docs/performance.md).
+/// A sphere takes two loops over the chunk, split before the square roots:
+/// the closest approach ([`approach_vector`]), then the rest. Each loop's
+/// chain of dependent operations is short enough that the processor runs
+/// several vectors at once (docs/performance.md).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mut Chunk, n: usize) {
     let sl = StepLanes::<F64x4>::of(s);
     let n = n.min(VECTORS);
-    let [a, b] = &mut c.live;
+    let Chunk { live: [a, b], done, status, approach, ok, inside } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     if !PLANE {
-        for j in 0..n {
-            approach_vector(&sl, src, j, &mut c.approach[j]);
+        for (j, to) in approach[..n].iter_mut().enumerate() {
+            approach_vector(&sl, src, j, to);
         }
     }
+    let mut dying = 0u64;
     for j in 0..n {
+        let p = [F64x4::load(&src.x[j]), F64x4::load(&src.y[j]), F64x4::load(&src.z[j])];
         let d = [F64x4::load(&src.dx[j]), F64x4::load(&src.dy[j]), F64x4::load(&src.dz[j])];
-        let h = if PLANE {
-            meet_plane(
-                F64x4::load(&src.x[j]),
-                F64x4::load(&src.y[j]),
-                F64x4::load(&src.z[j]) - sl.shift,
-                d[0],
-                d[1],
-                d[2],
+        let opl = F64x4::load(&src.opl[j]);
+        let out = if PLANE {
+            step_lanes::<F64x4, REFRACT, true>(
+                &sl,
+                Lane { px: p[0], py: p[1], pz: p[2], dx: d[0], dy: d[1], dz: d[2], opl },
             )
         } else {
-            let st = &c.approach[j];
-            let ap = Approach {
+            let st = &approach[j];
+            let p = [p[0], p[1], p[2] - sl.shift];
+            let a = Approach {
                 t0: F64x4::load(&st.t0),
-                x0: F64x4::load(&st.x0),
-                y0: F64x4::load(&st.y0),
-                z0: F64x4::load(&st.z0),
                 f: F64x4::load(&st.f),
                 g: F64x4::load(&st.g),
                 disc: F64x4::load(&st.disc),
             };
-            meet_sphere(sl.c, ap, cos_of(&ap), d[0], d[1], d[2])
+            sphere_from_approach::<F64x4, REFRACT>(&sl, &a, p, d, opl)
         };
-        let out = finish_step::<F64x4, REFRACT>(&sl, h, d, F64x4::load(&src.opl[j]));
         let o = out.next;
         o.px.store(&mut dst.x[j]);
         o.py.store(&mut dst.y[j]);
@@ -463,41 +476,42 @@ fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mu
         o.dz.store(&mut dst.dz[j]);
         o.opl.store(&mut dst.opl[j]);
         let v = out.verdict;
-        let dying = M64x4::is_zero(&c.status[j]).bits() & !v.passed.bits();
-        if dying != 0 {
-            let verdict = [v.ok.bits(), v.inside.bits(), v.through.bits()];
-            stop_lanes(s, k, src, dst, &mut c.done, &mut c.status[j], j, dying, verdict);
-        }
+        v.ok.store(&mut ok[j]);
+        v.inside.store(&mut inside[j]);
+        dying |= ((M64x4::is_zero(&status[j]).bits() & !v.passed.bits()) as u64) << (4 * j);
+    }
+    if dying != 0 {
+        stop_rays(s, k, src, dst, done, status, [ok, inside], dying);
     }
 }
 
-/// The rays of vector `j` marked in `dying` (one bit per lane) stopped at
-/// step `k` (`verdict`: the bits of `ok`, `inside`, `through`): their states,
-/// as [`stopped`] gives them from `before` and `after` the step (the one-ray
-/// path's own function), go to `done` in the global frame, their status says
-/// where and how, and their lanes go idle.
+/// The rays marked in `dying` (bit `i` for ray `i` of the chunk) stopped at
+/// step `k`: their states, as [`stopped`] gives them from `before` and
+/// `after` the step (the one-ray path's own function), go to `done` in the
+/// global frame, their status says where and how, and their lanes go idle.
 #[cfg(target_arch = "x86_64")]
 #[cold]
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn stop_lanes(
+fn stop_rays(
     s: &Step,
     k: usize,
     before: &Rays4,
     after: &mut Rays4,
     done: &mut Rays4,
-    status: &mut [u64; 4],
-    j: usize,
-    dying: u32,
-    verdict: [u32; 3],
+    status: &mut [[u64; 4]; VECTORS],
+    [ok, inside]: [&[[f64; 4]; VECTORS]; 2],
+    dying: u64,
 ) {
-    for lane in (0..4).filter(|lane| dying >> lane & 1 != 0) {
-        let [ok, inside, through] = verdict.map(|b| b >> lane & 1 != 0);
-        let kind = kind_of(ok, inside, through);
-        let i = j * 4 + lane;
+    for i in ones(dying) {
+        let (j, lane) = (i / 4, i % 4);
+        let [ok, inside] = [ok, inside].map(|m| m[j][lane].to_bits() != 0);
+        // a ray that met the surface inside its aperture and stopped was
+        // totally reflected
+        let kind = kind_of(ok, inside, false);
         let l = stopped(s, before.get(i), after.get(i), kind);
         done.set(i, Lane { pz: l.pz + s.vertex_z, ..l });
-        status[lane] = ((k as u64 + 1) << 2) | kind;
+        status[j][lane] = ((k as u64 + 1) << 2) | kind;
         after.set(i, IDLE);
     }
 }

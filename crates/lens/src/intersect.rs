@@ -47,8 +47,14 @@ pub(crate) struct LaneHit<L: Real> {
     /// `D . N` at the hit, with `N = (-c x, -c y, 1 - c z)` the unit normal:
     /// the signed cosine of incidence.
     pub cos: L,
-    /// Its square (the discriminant of the root for a sphere).
-    pub cos2: L,
+    /// `G - cos = c t1`, the curvature times the distance from the closest
+    /// approach to the hit (0 for a plane): the normal at the hit is
+    /// `N0 - (G - cos) D`, with `N0` the normal at the closest approach.
+    pub ct1: L,
+    /// The closest approach `P0` (the origin for a plane).
+    pub p0: [L; 3],
+    /// The ray met the surface (on the cap around the vertex, for a
+    /// sphere).
     pub ok: L::Mask,
 }
 
@@ -70,7 +76,7 @@ pub(crate) fn intersect_lanes<L: Real, const PLANE: bool>(
         meet_plane(px, py, pz, dx, dy, dz)
     } else {
         let a = approach(c, px, py, pz, dx, dy, dz);
-        meet_sphere(c, a, cos_of(&a), dx, dy, dz)
+        meet_sphere(c, &sphere_root(&a), [px, py, pz], [dx, dy, dz])
     }
 }
 
@@ -79,19 +85,16 @@ pub(crate) fn intersect_lanes<L: Real, const PLANE: bool>(
 #[inline(always)]
 pub(crate) fn meet_plane<L: Real>(px: L, py: L, pz: L, dx: L, dy: L, dz: L) -> LaneHit<L> {
     let t = -pz / dz;
-    LaneHit { t, x: t.fma(dx, px), y: t.fma(dy, py), z: L::splat(0.0), cos: dz, cos2: dz * dz, ok: t.is_finite() }
+    let zero = L::splat(0.0);
+    LaneHit { t, x: t.fma(dx, px), y: t.fma(dy, py), z: zero, cos: dz, ct1: zero, p0: [zero; 3], ok: t.is_finite() }
 }
 
 /// The first half of a sphere's intersection: the ray moved to its closest
 /// approach to the vertex, and the quadratic's coefficients there.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct Approach<L> {
-    /// Distance from the ray's start to the closest approach, mm.
+    /// Distance from the ray's start to the closest approach `P0`, mm.
     pub t0: L,
-    /// The closest approach `P0`, mm.
-    pub x0: L,
-    pub y0: L,
-    pub z0: L,
     /// `F = c |P0|^2 - 2 z0`.
     pub f: L,
     /// `G = Dz - c (P0 . D)`.
@@ -115,7 +118,24 @@ pub(crate) fn approach<L: Real>(c: L, px: L, py: L, pz: L, dx: L, dy: L, dz: L) 
     let g = (-c).fma(z0.fma(dz, x0.fma(dx, y0 * dy)), dz);
     // 3. discriminant
     let disc = g.fma(g, -c * f);
-    Approach { t0, x0, y0, z0, f, g, disc }
+    Approach { t0, f, g, disc }
+}
+
+/// Step 4 of a sphere's intersection: what is left of the closest approach
+/// after the square root and the division, all the rest needs.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SphereRoot<L: Real> {
+    /// Distance from the ray's start to the closest approach, mm.
+    pub t0: L,
+    /// `s sqrt(disc)` ([`cos_of`]): the cosine of incidence `D . N`.
+    pub cos: L,
+    /// `G - cos = c t1`.
+    pub ct1: L,
+    /// Distance from the closest approach to the hit, mm: the rationalised
+    /// root `F / (G + s sqrt(disc))`, free of cancellation.
+    pub t1: L,
+    /// The line meets the sphere (`disc >= 0`, `t1` finite).
+    pub met: L::Mask,
 }
 
 /// `s sqrt(disc)` (s the sign of G): the square root of step 4, which is
@@ -131,17 +151,28 @@ pub(crate) fn cos_of<L: Real>(a: &Approach<L>) -> L {
     a.disc.pos_or_zero().sqrt().or(a.g.sign_bit())
 }
 
-/// Steps 4 and 5: the rationalised root from the closest approach `a` and
-/// `cos` = [`cos_of`]`(a)`, and the test that the hit lies on the cap
-/// around the vertex.
+/// Step 4: the square root and the rationalised root from the closest
+/// approach `a`.
 #[inline(always)]
-pub(crate) fn meet_sphere<L: Real>(c: L, a: Approach<L>, cos: L, dx: L, dy: L, dz: L) -> LaneHit<L> {
-    // 4. rationalised root, no cancellation
+pub(crate) fn sphere_root<L: Real>(a: &Approach<L>) -> SphereRoot<L> {
+    let cos = cos_of(a);
     let t1 = a.f / (a.g + cos);
-    let x = t1.fma(dx, a.x0);
-    let y = t1.fma(dy, a.y0);
-    let z = t1.fma(dz, a.z0);
-    // 5. on the cap around the vertex (1 - c z > 0), not the far side
-    let ok = a.disc.ge(L::splat(0.0)) & t1.is_finite() & (c * z).lt(L::splat(1.0));
-    LaneHit { t: a.t0 + t1, x, y, z, cos, cos2: a.disc, ok }
+    let met = a.disc.ge(L::splat(0.0)) & t1.is_finite();
+    SphereRoot { t0: a.t0, cos, ct1: a.g - cos, t1, met }
+}
+
+/// Step 5: the hit of the ray `p + t d` (the one [`approach`] was given),
+/// from its root `r`, and the test that it lies on the cap around the
+/// vertex. The closest approach is computed again from `r.t0`, with the
+/// same operations as in [`approach`] (so the same bits): the batch keeps
+/// fewer numbers between its loops.
+#[inline(always)]
+pub(crate) fn meet_sphere<L: Real>(c: L, r: &SphereRoot<L>, p: [L; 3], d: [L; 3]) -> LaneHit<L> {
+    let [x0, y0, z0] = [r.t0.fma(d[0], p[0]), r.t0.fma(d[1], p[1]), r.t0.fma(d[2], p[2])];
+    let x = r.t1.fma(d[0], x0);
+    let y = r.t1.fma(d[1], y0);
+    let z = r.t1.fma(d[2], z0);
+    // on the cap around the vertex (1 - c z > 0), not the far side
+    let ok = r.met & (c * z).lt(L::splat(1.0));
+    LaneHit { t: r.t0 + r.t1, x, y, z, cos: r.cos, ct1: r.ct1, p0: [x0, y0, z0], ok }
 }

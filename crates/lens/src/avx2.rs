@@ -14,7 +14,10 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 #[derive(Clone, Copy)]
 pub(crate) struct F64x4(__m256d);
 
-/// Four truth values, each lane all ones (true) or all zeros (false).
+/// Four truth values, one per lane, held in the lane's sign bit: a
+/// comparison sets all bits of a lane (true) or none, [`Real::is_neg`] is
+/// the number itself. Masks are only combined bitwise and read by
+/// `movemask`, which reads the sign bits alone.
 #[derive(Clone, Copy)]
 pub(crate) struct M64x4(__m256d);
 
@@ -142,14 +145,8 @@ impl Real for F64x4 {
         M64x4(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
     }
     #[inline(always)]
-    fn le(self, o: Self) -> M64x4 {
-        // SAFETY: AVX is available (module invariant).
-        M64x4(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
-    }
-    #[inline(always)]
-    fn ge(self, o: Self) -> M64x4 {
-        // SAFETY: AVX is available (module invariant).
-        M64x4(unsafe { _mm256_cmp_pd::<_CMP_GE_OQ>(self.0, o.0) })
+    fn is_neg(self) -> M64x4 {
+        M64x4(self.0)
     }
     #[inline(always)]
     fn is_finite(self) -> M64x4 {

@@ -44,9 +44,11 @@ pub(crate) struct LaneHit<L: Real> {
     pub x: L,
     pub y: L,
     pub z: L,
-    /// `D . N` at the hit, with `N = (-c x, -c y, 1 - c z)` the unit normal:
-    /// the signed cosine of incidence.
-    pub cos: L,
+    /// `|D . N|` at the hit, with `N = (-c x, -c y, 1 - c z)` the unit
+    /// normal: the cosine of incidence.
+    pub cos_i: L,
+    /// The sign bit of `D . N` (`+0` or `-0`).
+    pub flip: L,
     /// `G - cos = c t1`, the curvature times the distance from the closest
     /// approach to the hit (0 for a plane): the normal at the hit is
     /// `N0 - (G - cos) D`, with `N0` the normal at the closest approach.
@@ -86,7 +88,18 @@ pub(crate) fn intersect_lanes<L: Real, const PLANE: bool>(
 pub(crate) fn meet_plane<L: Real>(px: L, py: L, pz: L, dx: L, dy: L, dz: L) -> LaneHit<L> {
     let t = -pz / dz;
     let zero = L::splat(0.0);
-    LaneHit { t, x: t.fma(dx, px), y: t.fma(dy, py), z: zero, cos: dz, ct1: zero, p0: [zero; 3], ok: t.is_finite() }
+    let flip = dz.sign_bit();
+    LaneHit {
+        t,
+        x: t.fma(dx, px),
+        y: t.fma(dy, py),
+        z: zero,
+        cos_i: dz.xor(flip),
+        flip,
+        ct1: zero,
+        p0: [zero; 3],
+        ok: t.is_finite(),
+    }
 }
 
 /// The first half of a sphere's intersection: the ray moved to its closest
@@ -127,38 +140,35 @@ pub(crate) fn approach<L: Real>(c: L, px: L, py: L, pz: L, dx: L, dy: L, dz: L) 
 pub(crate) struct SphereRoot<L: Real> {
     /// Distance from the ray's start to the closest approach, mm.
     pub t0: L,
-    /// `s sqrt(disc)` ([`cos_of`]): the cosine of incidence `D . N`.
-    pub cos: L,
+    /// `sqrt(disc)`: the cosine of incidence `|D . N|` (NaN for a miss).
+    pub root: L,
+    /// The sign bit of `G`, which `D . N` has.
+    pub sign: L,
     /// `G - cos = c t1`.
     pub ct1: L,
     /// Distance from the closest approach to the hit, mm: the rationalised
     /// root `F / (G + s sqrt(disc))`, free of cancellation.
     pub t1: L,
-    /// The line meets the sphere (`disc >= 0`, `t1` finite).
+    /// The line meets the sphere: `t1` is finite (a miss, `disc < 0`, has
+    /// a NaN root).
     pub met: L::Mask,
-}
-
-/// `s sqrt(disc)` (s the sign of G): the square root of step 4, which is
-/// also the cosine of incidence `D . N` at the hit.
-///
-/// The cosine comes with the root, as in Welford's skew-ray trace: the
-/// quadratic `c t^2 - 2 G t + F = 0` has the root
-/// `t1 = F / (G + s sqrt(disc)) = (G - s sqrt(disc)) / c`, and
-/// `D . N = G - c t1 = s sqrt(disc)`. Refraction then needs no dot product,
-/// and it does not wait for the division.
-#[inline(always)]
-pub(crate) fn cos_of<L: Real>(a: &Approach<L>) -> L {
-    a.disc.pos_or_zero().sqrt().or(a.g.sign_bit())
 }
 
 /// Step 4: the square root and the rationalised root from the closest
 /// approach `a`.
+///
+/// The cosine of incidence comes with the root, as in Welford's skew-ray
+/// trace: with `s` the sign of `G`, the quadratic `c t^2 - 2 G t + F = 0`
+/// has the root `t1 = F / (G + s sqrt(disc)) = (G - s sqrt(disc)) / c`,
+/// and `D . N = G - c t1 = s sqrt(disc)`. Refraction then needs no dot
+/// product, and it does not wait for the division.
 #[inline(always)]
 pub(crate) fn sphere_root<L: Real>(a: &Approach<L>) -> SphereRoot<L> {
-    let cos = cos_of(a);
+    let root = a.disc.sqrt();
+    let sign = a.g.sign_bit();
+    let cos = root.or(sign);
     let t1 = a.f / (a.g + cos);
-    let met = a.disc.ge(L::splat(0.0)) & t1.is_finite();
-    SphereRoot { t0: a.t0, cos, ct1: a.g - cos, t1, met }
+    SphereRoot { t0: a.t0, root, sign, ct1: a.g - cos, t1, met: t1.is_finite() }
 }
 
 /// Step 5: the hit of the ray `p + t d` (the one [`approach`] was given),
@@ -173,6 +183,6 @@ pub(crate) fn meet_sphere<L: Real>(c: L, r: &SphereRoot<L>, p: [L; 3], d: [L; 3]
     let y = r.t1.fma(d[1], y0);
     let z = r.t1.fma(d[2], z0);
     // on the cap around the vertex (1 - c z > 0), not the far side
-    let ok = r.met & (c * z).lt(L::splat(1.0));
-    LaneHit { t: r.t0 + r.t1, x, y, z, cos: r.cos, ct1: r.ct1, p0: [x0, y0, z0], ok }
+    let ok = r.met & (c * z - L::splat(1.0)).is_neg();
+    LaneHit { t: r.t0 + r.t1, x, y, z, cos_i: r.root, flip: r.sign, ct1: r.ct1, p0: [x0, y0, z0], ok }
 }

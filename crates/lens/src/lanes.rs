@@ -37,12 +37,12 @@ pub(crate) trait Real:
     fn or(self, o: Self) -> Self;
     /// `self < o`, false on NaN.
     fn lt(self, o: Self) -> Self::Mask;
-    /// `self <= o`, false on NaN.
-    fn le(self, o: Self) -> Self::Mask;
-    /// `self >= o`, false on NaN.
-    fn ge(self, o: Self) -> Self::Mask;
     /// `|self| < infinity`: false on infinities and NaN.
     fn is_finite(self) -> Self::Mask;
+    /// The sign bit: true where `self` is negative or `-0` (or a NaN with
+    /// its sign bit set). No operation for a vector, whose masks are read by
+    /// their sign bits; `!x.is_neg()` is `x >= 0` but for `-0` and NaN.
+    fn is_neg(self) -> Self::Mask;
 }
 
 /// Truth values, one per lane.
@@ -98,15 +98,11 @@ impl Real for f64 {
         self < o
     }
     #[inline(always)]
-    fn le(self, o: Self) -> bool {
-        self <= o
-    }
-    #[inline(always)]
-    fn ge(self, o: Self) -> bool {
-        self >= o
-    }
-    #[inline(always)]
     fn is_finite(self) -> bool {
         self.abs() < f64::INFINITY
+    }
+    #[inline(always)]
+    fn is_neg(self) -> bool {
+        self.is_sign_negative()
     }
 }

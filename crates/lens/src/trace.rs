@@ -166,7 +166,8 @@ pub(crate) struct StepOut<L: Real> {
 pub(crate) fn snell_root<L: Real, const REFRACT: bool>(s: &StepLanes<L>, cos2: L) -> (L, L::Mask) {
     if REFRACT {
         let k = s.k(cos2);
-        (k.pos_or_zero().sqrt(), k.ge(L::splat(0.0)))
+        // a NaN root where k < 0: the ray stops there, its direction unused
+        (k.sqrt(), !k.is_neg())
     } else {
         (L::splat(0.0), L::Mask::all_true())
     }
@@ -184,7 +185,7 @@ pub(crate) fn step_lanes<L: Real, const REFRACT: bool, const PLANE: bool>(s: &St
     let (p, d) = ([l.px, l.py, l.pz - s.shift], [l.dx, l.dy, l.dz]);
     if PLANE {
         let h = meet_plane(p[0], p[1], p[2], d[0], d[1], d[2]);
-        let (root_k, through) = snell_root::<L, REFRACT>(s, h.cos * h.cos);
+        let (root_k, through) = snell_root::<L, REFRACT>(s, h.cos_i * h.cos_i);
         let (next, inside) = carry::<L, REFRACT>(s, &h, d, l.opl, root_k);
         StepOut { next, verdict: Verdict::of(h.ok, inside, through) }
     } else {
@@ -222,7 +223,7 @@ pub(crate) fn carry<L: Real, const REFRACT: bool>(
     opl: L,
     root_k: L,
 ) -> (Lane<L>, L::Mask) {
-    let inside = h.x.fma(h.x, h.y * h.y).le(s.sd2);
+    let inside = !(s.sd2 - h.x.fma(h.x, h.y * h.y)).is_neg();
     let [dx, dy, dz] = if REFRACT { refract_at(s, h, d, root_k) } else { d };
     (Lane { px: h.x, py: h.y, pz: h.z, dx, dy, dz, opl: s.n_before.fma(h.t, opl) }, inside)
 }
@@ -235,9 +236,7 @@ pub(crate) fn carry<L: Real, const REFRACT: bool>(
 /// division, and waits only for the two square roots.
 #[inline(always)]
 fn refract_at<L: Real>(s: &StepLanes<L>, h: &LaneHit<L>, d: [L; 3], root_k: L) -> [L; 3] {
-    let flip = h.cos.sign_bit();
-    let cos_i = h.cos.xor(flip);
-    let g = (-s.mu).fma(cos_i, root_k).xor(flip);
+    let g = (-s.mu).fma(h.cos_i, root_k).xor(h.flip);
     let a = (-g).fma(h.ct1, s.mu);
     let gc = g * -s.c;
     let [x0, y0, z0] = h.p0;

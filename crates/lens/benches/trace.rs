@@ -1,8 +1,8 @@
 //! Batch tracing throughput: 1,000,000 rays through the double Gauss, on one
 //! core and on all cores. Results are recorded in docs/performance.md.
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use lens::bench::{restore, Workload};
+use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
+use lens::bench::Workload;
 use lens::{Outcome, Prescription, Ray};
 use rayon::prelude::*;
 
@@ -20,12 +20,10 @@ fn trace(c: &mut Criterion) {
     // throughput in ray-surface intersections (11 surfaces per ray)
     g.throughput(Throughput::Elements((RAYS * p.surfaces().len()) as u64));
 
-    let mut work = w.rays.clone();
+    // a fresh copy of the rays for each pass, made outside the timing (as
+    // `lens bench` restores them untimed): copying 64 MB is a sixth of a pass
     g.bench_function("soa_one_core", |b| {
-        b.iter(|| {
-            restore(&mut work, &w.rays);
-            w.tracer.trace_soa(&mut work);
-        })
+        b.iter_batched_ref(|| w.rays.clone(), |work| w.tracer.trace_soa(work), BatchSize::PerIteration)
     });
 
     let rays: Vec<Ray> = (0..RAYS)

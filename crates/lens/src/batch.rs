@@ -154,6 +154,37 @@ fn prefetch_rays(batch: &RayBatch, r: std::ops::Range<usize>) {
     }
 }
 
+/// Copies `from` (at most a chunk) into the first values of `to`: for a
+/// whole chunk, a vector at a time, inline (a call to `memcpy` for each of
+/// a chunk's eight 512-byte arrays cost more than the copy).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn copy_quads(to: &mut [[f64; 4]; VECTORS], from: &[f64]) {
+    if from.len() == CHUNK {
+        for (t, f) in to.iter_mut().zip(from.chunks_exact(4)) {
+            let f: &[f64; 4] = f.try_into().expect("chunks of 4");
+            F64x4::load(f).store(t);
+        }
+    } else {
+        to.as_flattened_mut()[..from.len()].copy_from_slice(from);
+    }
+}
+
+/// Copies the first `to.len()` values (at most a chunk) of `from` into
+/// `to`, as [`copy_quads`] does the other way.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn copy_from_quads(to: &mut [f64], from: &[[f64; 4]; VECTORS]) {
+    if to.len() == CHUNK {
+        for (t, f) in to.chunks_exact_mut(4).zip(from.iter()) {
+            let t: &mut [f64; 4] = t.try_into().expect("chunks of 4");
+            F64x4::load(f).store(t);
+        }
+    } else {
+        to.copy_from_slice(&from.as_flattened()[..to.len()]);
+    }
+}
+
 /// Rays in groups of four (one AVX2 vector each), structure of arrays.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
@@ -368,7 +399,7 @@ impl Tracer {
                 (&mut live.dz, &batch.dz),
                 (&mut live.opl, &batch.opl),
             ] {
-                to.as_flattened_mut()[..m].copy_from_slice(&from[r.clone()]);
+                copy_quads(to, &from[r.clone()]);
             }
             c.status.as_flattened_mut()[..m].copy_from_slice(&batch.status[r.clone()]);
             for i in ones(nonzero(&batch.status[r.clone()])) {
@@ -386,7 +417,7 @@ impl Tracer {
                 (&mut batch.dz, &fin.dz),
                 (&mut batch.opl, &fin.opl),
             ] {
-                to[r.clone()].copy_from_slice(&from.as_flattened()[..m]);
+                copy_from_quads(&mut to[r.clone()], from);
             }
             for z in &mut batch.z[r.clone()] {
                 *z += last_z;

@@ -12,7 +12,9 @@ use crate::avx2::F64x4;
 use crate::intersect::{approach, Approach};
 use crate::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]
-use crate::trace::{kind_of, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes};
+use crate::trace::{
+    kind_of, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, CURVED, FLAT, PLANE,
+};
 use crate::trace::{Lane, Tracer, PASSED};
 use glam::DVec3;
 
@@ -457,11 +459,13 @@ impl Tracer {
     fn trace_chunk(&self, c: &mut Chunk, m: usize) {
         let n = c.pad(m);
         for (k, s) in self.steps.iter().enumerate() {
-            match (s.refract, s.plane) {
-                (true, false) => step_chunk::<true, false>(s, k, c, n),
-                (true, true) => step_chunk::<true, true>(s, k, c, n),
-                (false, false) => step_chunk::<false, false>(s, k, c, n),
-                (false, true) => step_chunk::<false, true>(s, k, c, n),
+            match (s.refract, s.shape) {
+                (true, PLANE) => step_chunk::<true, PLANE>(s, k, c, n),
+                (true, FLAT) => step_chunk::<true, FLAT>(s, k, c, n),
+                (true, _) => step_chunk::<true, CURVED>(s, k, c, n),
+                (false, PLANE) => step_chunk::<false, PLANE>(s, k, c, n),
+                (false, FLAT) => step_chunk::<false, FLAT>(s, k, c, n),
+                (false, _) => step_chunk::<false, CURVED>(s, k, c, n),
             }
         }
     }
@@ -498,12 +502,12 @@ fn approach_vector(sl: &StepLanes<F64x4>, rays: &Rays4, j: usize, to: &mut Appro
 /// several vectors at once (docs/performance.md).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mut Chunk, n: usize) {
+fn step_chunk<const REFRACT: bool, const SHAPE: u8>(s: &Step, k: usize, c: &mut Chunk, n: usize) {
     let sl = StepLanes::<F64x4>::of(s);
     let n = n.min(VECTORS);
     let Chunk { live: [a, b], done, status, approach, alive } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
-    if !PLANE {
+    if SHAPE != PLANE {
         for (j, to) in approach[..n].iter_mut().enumerate() {
             approach_vector(&sl, src, j, to);
         }
@@ -515,8 +519,8 @@ fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mu
         let p = [F64x4::load(&src.x[j]), F64x4::load(&src.y[j]), F64x4::load(&src.z[j])];
         let d = [F64x4::load(&src.dx[j]), F64x4::load(&src.dy[j]), F64x4::load(&src.dz[j])];
         let opl = F64x4::load(&src.opl[j]);
-        let out = if PLANE {
-            step_lanes::<F64x4, REFRACT, true>(
+        let out = if SHAPE == PLANE {
+            step_lanes::<F64x4, REFRACT, PLANE>(
                 &sl,
                 Lane { px: p[0], py: p[1], pz: p[2], dx: d[0], dy: d[1], dz: d[2], opl },
             )
@@ -529,7 +533,7 @@ fn step_chunk<const REFRACT: bool, const PLANE: bool>(s: &Step, k: usize, c: &mu
                 g: F64x4::load(&st.g),
                 disc: F64x4::load(&st.disc),
             };
-            sphere_from_approach::<F64x4, REFRACT>(&sl, &a, p, d, opl)
+            sphere_from_approach::<F64x4, REFRACT, SHAPE>(&sl, &a, p, d, opl)
         };
         let o = out.next;
         o.px.store(&mut dst.x[j]);

@@ -42,8 +42,28 @@ pub(crate) struct Step {
     pub surface: usize,
     /// Whether the indices differ (otherwise the direction is kept exactly).
     pub refract: bool,
-    /// Whether the surface is a plane (`c == 0`).
-    pub plane: bool,
+    /// How the surface is met: [`PLANE`], [`FLAT`] or [`CURVED`].
+    pub shape: u8,
+}
+
+/// A plane (`c == 0`): met by [`meet_plane`], no square root.
+pub(crate) const PLANE: u8 = 0;
+/// A sphere with `|c| <` [`crate::intersect::CURVED`]: the rationalised root,
+/// a division.
+pub(crate) const FLAT: u8 = 1;
+/// A sphere with `|c| >=` [`crate::intersect::CURVED`]: the root as
+/// `(G - s sqrt(disc)) / c`, a multiplication.
+pub(crate) const CURVED: u8 = 2;
+
+/// The [`Step::shape`] of a surface of curvature `c`.
+fn shape_of(c: f64) -> u8 {
+    if c == 0.0 {
+        PLANE
+    } else if c.abs() < crate::intersect::CURVED {
+        FLAT
+    } else {
+        CURVED
+    }
 }
 
 /// Whether this CPU runs the AVX2 + FMA kernels (detected once, cached by
@@ -125,6 +145,8 @@ pub(crate) struct StepLanes<L> {
     one_minus_mu2: L,
     n_before: L,
     pub shift: L,
+    /// `1 / c` for a [`CURVED`] sphere (0 otherwise).
+    pub radius: L,
 }
 
 impl<L: Real> StepLanes<L> {
@@ -138,6 +160,7 @@ impl<L: Real> StepLanes<L> {
             one_minus_mu2: L::splat(one_minus_square(s.mu)),
             n_before: L::splat(s.n_before),
             shift: L::splat(s.shift),
+            radius: L::splat(if s.shape == CURVED { 1.0 / s.c } else { 0.0 }),
         }
     }
 
@@ -175,29 +198,29 @@ pub(crate) fn snell_root<L: Real, const REFRACT: bool>(s: &StepLanes<L>, cos2: L
 
 /// Carries rays across one step: shift into the step's frame, intersect,
 /// clip by the clear aperture, refract. `REFRACT` must be `s.refract` and
-/// `PLANE` `s.plane`. The result holds the ray as it goes on; a ray that
+/// `SHAPE` `s.shape`. The result holds the ray as it goes on; a ray that
 /// stopped here is given by [`stopped`].
 ///
 /// The batch runs a sphere step in two loops over its rays: [`approach`],
 /// then [`sphere_from_approach`].
 #[inline(always)]
-pub(crate) fn step_lanes<L: Real, const REFRACT: bool, const PLANE: bool>(s: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
+pub(crate) fn step_lanes<L: Real, const REFRACT: bool, const SHAPE: u8>(s: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
     let (p, d) = ([l.px, l.py, l.pz - s.shift], [l.dx, l.dy, l.dz]);
-    if PLANE {
+    if SHAPE == PLANE {
         let h = meet_plane(p[0], p[1], p[2], d[0], d[1], d[2]);
         let (root_k, through) = snell_root::<L, REFRACT>(s, h.cos_i * h.cos_i);
         let (next, inside) = carry::<L, REFRACT>(s, &h, d, l.opl, root_k);
         StepOut { next, verdict: Verdict::of(h.ok, inside, through) }
     } else {
         let a = approach(s.c, p[0], p[1], p[2], d[0], d[1], d[2]);
-        sphere_from_approach::<L, REFRACT>(s, &a, p, d, l.opl)
+        sphere_from_approach::<L, REFRACT, SHAPE>(s, &a, p, d, l.opl)
     }
 }
 
 /// The rest of a sphere step from the closest approach `a` of the ray with
 /// point `p` (in the step's frame), direction `d` and path length `opl`.
 #[inline(always)]
-pub(crate) fn sphere_from_approach<L: Real, const REFRACT: bool>(
+pub(crate) fn sphere_from_approach<L: Real, const REFRACT: bool, const SHAPE: u8>(
     s: &StepLanes<L>,
     a: &Approach<L>,
     p: [L; 3],
@@ -206,7 +229,7 @@ pub(crate) fn sphere_from_approach<L: Real, const REFRACT: bool>(
 ) -> StepOut<L> {
     // the squared cosine of incidence is the discriminant
     let (root_k, through) = snell_root::<L, REFRACT>(s, a.disc);
-    let h = meet_sphere(s.c, &sphere_root(a), p, d);
+    let h = meet_sphere(s.c, &sphere_root(a, s.radius, SHAPE == CURVED), p, d);
     let (next, inside) = carry::<L, REFRACT>(s, &h, d, opl, root_k);
     StepOut { next, verdict: Verdict::of(h.ok, inside, through) }
 }
@@ -257,15 +280,17 @@ pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -
     }
 }
 
-/// [`step_lanes`] with the step's `refract` and `plane` flags turned into
-/// the kernel's constants.
+/// [`step_lanes`] with the step's `refract` flag and shape turned into the
+/// kernel's constants.
 #[inline(always)]
 pub(crate) fn step_dispatch<L: Real>(s: &Step, k: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
-    match (s.refract, s.plane) {
-        (true, false) => step_lanes::<L, true, false>(k, l),
-        (true, true) => step_lanes::<L, true, true>(k, l),
-        (false, false) => step_lanes::<L, false, false>(k, l),
-        (false, true) => step_lanes::<L, false, true>(k, l),
+    match (s.refract, s.shape) {
+        (true, PLANE) => step_lanes::<L, true, PLANE>(k, l),
+        (true, FLAT) => step_lanes::<L, true, FLAT>(k, l),
+        (true, _) => step_lanes::<L, true, CURVED>(k, l),
+        (false, PLANE) => step_lanes::<L, false, PLANE>(k, l),
+        (false, FLAT) => step_lanes::<L, false, FLAT>(k, l),
+        (false, _) => step_lanes::<L, false, CURVED>(k, l),
     }
 }
 
@@ -318,7 +343,7 @@ impl Tracer {
             vertex_z: z[last] + film_distance,
             surface: s.len(),
             refract: false,
-            plane: true,
+            shape: PLANE,
         });
         Tracer { steps, direction: Direction::ObjectToImage }
     }
@@ -489,6 +514,6 @@ fn surface_step(surf: &crate::Surface, i: usize, n1: f64, n2: f64, shift: f64, v
         vertex_z,
         surface: i,
         refract: n1 != n2,
-        plane: surf.curvature == 0.0,
+        shape: shape_of(surf.curvature),
     }
 }

@@ -140,18 +140,17 @@ impl Real for F64x4 {
         F64x4(unsafe { _mm256_or_pd(self.0, o.0) })
     }
     #[inline(always)]
-    fn lt(self, o: Self) -> M64x4 {
-        // SAFETY: AVX is available (module invariant).
-        M64x4(unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0) })
-    }
-    #[inline(always)]
     fn is_neg(self) -> M64x4 {
         M64x4(self.0)
     }
     #[inline(always)]
     fn is_finite(self) -> M64x4 {
+        // x * 0 is +-0 for finite x, NaN for infinities and NaN: no
+        // constant to hold but zero
         // SAFETY: AVX is available (module invariant).
-        let abs = F64x4(unsafe { _mm256_andnot_pd(F64x4::splat(-0.0).0, self.0) });
-        abs.lt(F64x4::splat(f64::INFINITY))
+        unsafe {
+            let zero = _mm256_setzero_pd();
+            M64x4(_mm256_cmp_pd::<_CMP_EQ_OQ>(_mm256_mul_pd(self.0, zero), zero))
+        }
     }
 }

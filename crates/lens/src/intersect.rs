@@ -176,8 +176,9 @@ pub(crate) fn meet_sphere<L: Real>(c: L, r: &SphereRoot<L>, p: [L; 3], d: [L; 3]
     let x = r.t1.fma(d[0], x0);
     let y = r.t1.fma(d[1], y0);
     let z = r.t1.fma(d[2], z0);
-    // on the cap around the vertex (1 - c z > 0), not the far side
-    let ok = r.met & (c * z - L::splat(1.0)).is_neg();
+    // on the cap around the vertex (1 - c z > 0, the product exact), not
+    // the far side
+    let ok = r.met & c.fma(z, L::splat(-1.0)).is_neg();
     LaneHit { t: r.t0 + r.t1, x, y, z, cos_i: r.root, flip: r.sign, ct1: r.ct1, p0: [x0, y0, z0], ok }
 }
 

@@ -35,8 +35,6 @@ pub(crate) trait Real:
     fn xor(self, o: Self) -> Self;
     /// Bitwise or: `m.or(s.sign_bit())` is `copysign(m, s)` for `m >= +0`.
     fn or(self, o: Self) -> Self;
-    /// `self < o`, false on NaN.
-    fn lt(self, o: Self) -> Self::Mask;
     /// `|self| < infinity`: false on infinities and NaN.
     fn is_finite(self) -> Self::Mask;
     /// The sign bit: true where `self` is negative or `-0` (or a NaN with
@@ -92,10 +90,6 @@ impl Real for f64 {
     #[inline(always)]
     fn or(self, o: Self) -> Self {
         f64::from_bits(self.to_bits() | o.to_bits())
-    }
-    #[inline(always)]
-    fn lt(self, o: Self) -> bool {
-        self < o
     }
     #[inline(always)]
     fn is_finite(self) -> bool {

@@ -30,12 +30,17 @@ pub fn run(a: Args) -> CmdResult {
             "seconds": m.seconds,
             "rays_per_second": m.rays_per_second,
             "ray_surface_per_second": m.ray_surface_per_second,
+            "median_rays_per_second": m.median_rays_per_second,
+            "median_ray_surface_per_second": m.median_ray_surface_per_second,
             "reached_fraction": m.reached_fraction,
         }));
     } else {
         println!("{} rays x {} passes through {} surfaces, one thread", a.rays, m.passes, p.surfaces().len());
-        println!("  {:.3e} rays/s", m.rays_per_second);
-        println!("  {:.3e} ray-surface intersections/s", m.ray_surface_per_second);
+        println!("  {:.3e} rays/s (fastest pass; median {:.3e})", m.rays_per_second, m.median_rays_per_second);
+        println!(
+            "  {:.3e} ray-surface intersections/s (fastest pass; median {:.3e})",
+            m.ray_surface_per_second, m.median_ray_surface_per_second
+        );
         println!("  {:.1}% of rays reach the film", 100.0 * m.reached_fraction);
     }
     Ok(ExitCode::SUCCESS)

@@ -123,6 +123,10 @@ fn bench_prints_rates() {
     let v = json(&out);
     assert!(v["rays_per_second"].as_f64().unwrap() > 0.0);
     assert!(v["ray_surface_per_second"].as_f64().unwrap() > v["rays_per_second"].as_f64().unwrap());
+    // the headline is the fastest pass, never slower than the median one
+    let median = v["median_ray_surface_per_second"].as_f64().unwrap();
+    assert!(median > 0.0 && median <= v["ray_surface_per_second"].as_f64().unwrap());
+    assert!(v["passes"].as_u64().unwrap() >= 3);
 }
 
 #[test]

@@ -147,6 +147,11 @@ impl FirstOrder {
         let rear_focal = z_last + bfl;
         let back_principal_plane = rear_focal - n_img * efl;
         let front_principal_plane = ffd + efl;
+        // a power so small (a radius near 1e308 mm) that the focal points
+        // lie beyond the range of f64: afocal for every purpose
+        if ![efl, bfl, ffd, back_principal_plane, front_principal_plane].iter().all(|v| v.is_finite()) {
+            return Err(OpticsError::Afocal);
+        }
 
         let st = p.stop_index();
         let (ya_s, yb_s) = (a.y[st], b.y[st]);

@@ -22,6 +22,13 @@ pub(crate) struct F64x4(__m256d);
 pub(crate) struct M64x4(__m256d);
 
 impl F64x4 {
+    /// The four values `[a, b, c, d]`, gathered in registers.
+    #[inline(always)]
+    pub(crate) fn new(a: f64, b: f64, c: f64, d: f64) -> Self {
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_setr_pd(a, b, c, d) })
+    }
+
     /// Loads four values from `s[0..4]`.
     #[inline(always)]
     pub(crate) fn load(s: &[f64; 4]) -> Self {

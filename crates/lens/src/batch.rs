@@ -188,6 +188,20 @@ fn copy_from_quads(to: &mut [f64], from: &[[f64; 4]; VECTORS]) {
     }
 }
 
+/// Asks the caches for the `n` values of type `T` from `p` (which must lie
+/// in one allocation; prefetching never faults).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn prefetch_lines<T>(p: *const T, n: usize) {
+    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+    let bytes = n * std::mem::size_of::<T>();
+    for off in (0..bytes).step_by(64) {
+        // SAFETY: prefetching never faults; the address stays within the
+        // allocation `p` points into (`wrapping_add`, no dereference).
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(p.cast::<i8>().wrapping_add(off)) };
+    }
+}
+
 /// Rays in groups of four (one AVX2 vector each), structure of arrays.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
@@ -439,17 +453,49 @@ impl Tracer {
     fn trace_batch_avx2(&self, rays: &[Ray], out: &mut [Outcome]) {
         let mut c = Chunk::new();
         let last_z = self.steps[self.steps.len() - 1].vertex_z;
-        for (rays, out) in rays.chunks(CHUNK).zip(out.chunks_mut(CHUNK)) {
+        let total = rays.len().min(out.len());
+        let (all_rays, out_ptr) = (rays, out.as_ptr());
+        for (k, (rays, out)) in rays.chunks(CHUNK).zip(out.chunks_mut(CHUNK)).enumerate() {
+            // the next chunk's rays and outcomes into the caches meanwhile
+            let next = ((k + 1) * CHUNK).min(total)..((k + 2) * CHUNK).min(total);
+            prefetch_lines(all_rays[next.clone()].as_ptr(), next.len());
+            prefetch_lines(out_ptr.wrapping_add(next.start), next.len());
             let m = rays.len().min(out.len());
-            for (i, r) in rays[..m].iter().enumerate() {
-                let (o, d) = (r.origin, r.direction);
-                c.put(i, Lane { px: o.x, py: o.y, pz: o.z, dx: d.x, dy: d.y, dz: d.z, opl: 0.0 }, 0);
+            if m == CHUNK {
+                // four rays' fields gathered in registers and stored as one
+                // vector each (a store per field and ray cost more)
+                let live = &mut c.live[0];
+                for (j, r) in rays.chunks_exact(4).enumerate() {
+                    let field = |f: fn(&Ray) -> f64| F64x4::new(f(&r[0]), f(&r[1]), f(&r[2]), f(&r[3]));
+                    field(|r| r.origin.x).store(&mut live.x[j]);
+                    field(|r| r.origin.y).store(&mut live.y[j]);
+                    field(|r| r.origin.z).store(&mut live.z[j]);
+                    field(|r| r.direction.x).store(&mut live.dx[j]);
+                    field(|r| r.direction.y).store(&mut live.dy[j]);
+                    field(|r| r.direction.z).store(&mut live.dz[j]);
+                    live.opl[j] = [0.0; 4];
+                }
+                c.status = [[0; 4]; VECTORS];
+            } else {
+                for (i, r) in rays[..m].iter().enumerate() {
+                    let (o, d) = (r.origin, r.direction);
+                    c.put(i, Lane { px: o.x, py: o.y, pz: o.z, dx: d.x, dy: d.y, dz: d.z, opl: 0.0 }, 0);
+                }
             }
             self.trace_chunk(&mut c, m);
+            // every ray as reached, without a branch per ray; then the few
+            // that stopped
+            let fin = &c.live[self.steps.len() % 2];
             for (i, o) in out[..m].iter_mut().enumerate() {
+                let l = fin.get(i);
+                let ray =
+                    Ray { origin: DVec3::new(l.px, l.py, l.pz + last_z), direction: DVec3::new(l.dx, l.dy, l.dz) };
+                *o = Outcome::Reached { ray, opl: l.opl };
+            }
+            for i in ones(nonzero(&c.status.as_flattened()[..m])) {
                 let (l, st) = c.take(i, self.steps.len(), last_z);
                 let ray = Ray { origin: DVec3::new(l.px, l.py, l.pz), direction: DVec3::new(l.dx, l.dy, l.dz) };
-                *o = self.decode(ray, l.opl, st);
+                out[i] = self.decode(ray, l.opl, st);
             }
         }
     }

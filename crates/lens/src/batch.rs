@@ -8,6 +8,7 @@
 
 #[cfg(target_arch = "x86_64")]
 use crate::avx2::F64x4;
+use crate::error::OpticsError;
 #[cfg(target_arch = "x86_64")]
 use crate::intersect::{approach, Approach};
 use crate::ray::{Outcome, Ray};
@@ -381,12 +382,27 @@ impl Tracer {
     }
 
     /// The outcome of ray `i` of a batch traced by [`Self::trace_soa`].
-    pub fn outcome_of(&self, batch: &RayBatch, i: usize) -> Outcome {
+    /// Errors when its `status` is neither 0 nor a code this tracer writes
+    /// (a stop at one of its steps), as a status set by hand may be.
+    ///
+    /// # Panics
+    ///
+    /// When `i` is not a ray of the batch.
+    pub fn outcome_of(&self, batch: &RayBatch, i: usize) -> Result<Outcome, OpticsError> {
+        let status = batch.status[i];
+        let step = (status >> 2) as usize;
+        if status != 0 && (step == 0 || step > self.steps.len() || status & 3 == PASSED) {
+            return Err(OpticsError::BadInput {
+                name: "status",
+                value: status as f64,
+                expected: "0 (travelling or reached) or a code written by trace_soa: (step + 1) << 2 | kind, kind 1-3",
+            });
+        }
         let ray = Ray {
             origin: DVec3::new(batch.x[i], batch.y[i], batch.z[i]),
             direction: DVec3::new(batch.dx[i], batch.dy[i], batch.dz[i]),
         };
-        self.decode(ray, batch.opl[i], batch.status[i])
+        Ok(self.decode(ray, batch.opl[i], status))
     }
 
     fn decode(&self, ray: Ray, opl: f64, status: u64) -> Outcome {

@@ -108,7 +108,12 @@ fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
         let mut kinds = [0usize; 4];
         for (i, r) in rays.iter().enumerate() {
             let one = w.tracer.trace(*r);
-            assert!(same(&one, &w.tracer.outcome_of(&soa, i)), "{name} ray {i}: soa {:?} vs {:?}", soa.status[i], one);
+            assert!(
+                same(&one, &w.tracer.outcome_of(&soa, i).unwrap()),
+                "{name} ray {i}: soa {:?} vs {:?}",
+                soa.status[i],
+                one
+            );
             assert!(same(&one, &out[i]), "{name} ray {i}: batch {:?} vs {:?}", out[i], one);
             kinds[kind_index(&one)] += 1;
             // and the reverse tracer agrees with itself too
@@ -116,7 +121,7 @@ fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
             let mut b = RayBatch::default();
             b.push(back);
             reverse.trace_soa(&mut b);
-            assert!(same(&reverse.trace(back), &reverse.outcome_of(&b, 0)));
+            assert!(same(&reverse.trace(back), &reverse.outcome_of(&b, 0).unwrap()));
         }
         assert!(kinds[0] > 0, "{name}: no ray reached the film");
     }
@@ -172,7 +177,7 @@ fn batch_is_bit_for_bit_the_one_ray_path_for_wild_rays() {
                         assert_eq!(batch.dz[i].to_bits(), before.dz[i].to_bits());
                         continue;
                     }
-                    let soa = tracer.outcome_of(&batch, i);
+                    let soa = tracer.outcome_of(&batch, i).unwrap();
                     assert!(same(&one, &soa), "{name} ray {i} of {len}: soa {soa:?} vs {one:?}");
                     kinds[kind_index(&one)] += 1;
                 }
@@ -194,4 +199,32 @@ fn blocked_rays_carry_the_surface_and_hit_point() {
     let sag = lens::surface::sag(1.0 / 50.0, 11.0).unwrap();
     assert!((ray.origin.z - sag).abs() < 1e-12);
     assert_eq!(ray.direction, DVec3::Z);
+}
+
+#[test]
+fn hand_set_statuses_are_left_alone_and_bad_ones_are_errors() {
+    let p = singlet(Some(50.0), Some(-50.0), 5.0, 1.5, 10.0, 60.0);
+    let t = Tracer::forward(&p);
+    let mut b = RayBatch::with_capacity(8);
+    for _ in 0..8 {
+        b.push(Ray::new(DVec3::new(0.0, 1.0, -5.0), DVec3::Z).unwrap());
+    }
+    // 3 steps (two surfaces and the film): valid codes are (1..=3) << 2 | 1..=3
+    let set = [0, 1, 3, 4, (1 << 2) | 2, (3 << 2) | 1, (4 << 2) | 1, u64::MAX];
+    b.status.copy_from_slice(&set);
+    let before = b.clone();
+    t.trace_soa(&mut b);
+    for (i, &st) in set.iter().enumerate() {
+        if st != 0 {
+            assert_eq!(b.status[i], st, "ray {i}");
+            assert_eq!(b.y[i].to_bits(), before.y[i].to_bits(), "ray {i} was moved");
+        }
+        let valid = st == 0 || [(1 << 2) | 2, (3 << 2) | 1].contains(&st);
+        match t.outcome_of(&b, i) {
+            Ok(o) => assert!(valid, "status {st}: {o:?}"),
+            Err(e) => assert!(!valid && e.to_string().contains("status"), "status {st}: {e}"),
+        }
+    }
+    assert!(matches!(t.outcome_of(&b, 0), Ok(Outcome::Reached { .. })));
+    assert!(matches!(t.outcome_of(&b, 4), Ok(Outcome::Blocked { surface: 0, .. })));
 }

@@ -125,13 +125,6 @@ impl Real for F64x4 {
         F64x4(unsafe { _mm256_sqrt_pd(self.0) })
     }
     #[inline(always)]
-    fn pos_or_zero(self) -> Self {
-        // maxpd returns its second operand when either is NaN or both are
-        // zero: +0 then, as the scalar definition says.
-        // SAFETY: AVX is available (module invariant).
-        F64x4(unsafe { _mm256_max_pd(self.0, _mm256_setzero_pd()) })
-    }
-    #[inline(always)]
     fn sign_bit(self) -> Self {
         // SAFETY: AVX is available (module invariant).
         F64x4(unsafe { _mm256_and_pd(self.0, _mm256_castsi256_pd(_mm256_set1_epi64x(SIGN as i64))) })

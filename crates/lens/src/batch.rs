@@ -144,18 +144,10 @@ fn ones(mut m: u64) -> impl Iterator<Item = usize> {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn prefetch_rays(batch: &RayBatch, r: std::ops::Range<usize>) {
-    use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
-    let status: &[u64] = &batch.status;
     for a in [&batch.x, &batch.y, &batch.z, &batch.dx, &batch.dy, &batch.dz, &batch.opl] {
-        for v in a[r.clone()].iter().step_by(8) {
-            // SAFETY: prefetching never faults; the address is in the slice.
-            unsafe { _mm_prefetch::<_MM_HINT_T0>((v as *const f64).cast()) };
-        }
+        prefetch_lines(a[r.clone()].as_ptr(), r.len());
     }
-    for v in status[r].iter().step_by(8) {
-        // SAFETY: as above.
-        unsafe { _mm_prefetch::<_MM_HINT_T0>((v as *const u64).cast()) };
-    }
+    prefetch_lines(batch.status[r.clone()].as_ptr(), r.len());
 }
 
 /// Copies `from` (at most a chunk) into the first values of `to`: for a
@@ -326,6 +318,12 @@ impl Chunk {
         }
     }
 
+    /// Rays `0..m` that are not travelling after tracing: those that stopped
+    /// and those that came in stopped (their status is not 0).
+    fn stopped(&self, m: usize) -> u64 {
+        !self.alive & (u64::MAX >> (64 - m))
+    }
+
     /// Pads rays `m..` up to a whole vector with idle lanes and marks the
     /// travelling rays alive; returns the number of vectors.
     fn pad(&mut self, m: usize) -> usize {
@@ -456,7 +454,7 @@ impl Tracer {
                 *z += last_z;
             }
             batch.status[r.clone()].copy_from_slice(&c.status.as_flattened()[..m]);
-            for i in ones(nonzero(&c.status.as_flattened()[..m])) {
+            for i in ones(c.stopped(m)) {
                 batch.set_lane(start + i, c.done.get(i));
             }
             start += m;
@@ -508,7 +506,7 @@ impl Tracer {
                     Ray { origin: DVec3::new(l.px, l.py, l.pz + last_z), direction: DVec3::new(l.dx, l.dy, l.dz) };
                 *o = Outcome::Reached { ray, opl: l.opl };
             }
-            for i in ones(nonzero(&c.status.as_flattened()[..m])) {
+            for i in ones(c.stopped(m)) {
                 let (l, st) = c.take(i, self.steps.len(), last_z);
                 let ray = Ray { origin: DVec3::new(l.px, l.py, l.pz), direction: DVec3::new(l.dx, l.dy, l.dz) };
                 out[i] = self.decode(ray, l.opl, st);

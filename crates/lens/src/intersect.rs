@@ -31,7 +31,7 @@ pub fn intersect(c: f64, p: DVec3, d: DVec3) -> Option<Hit> {
         meet_plane(p.x, p.y, p.z, d.x, d.y, d.z)
     } else {
         let a = approach(c, p.x, p.y, p.z, d.x, d.y, d.z);
-        meet_sphere(c, &sphere_root(&a, 1.0 / c, c.abs() >= CURVED), p.to_array(), d.to_array())
+        meet_sphere(c, &sphere_root(&a, 1.0 / c, is_curved(c)), p.to_array(), d.to_array())
     };
     r.ok.then(|| Hit { t: r.t, point: DVec3::new(r.x, r.y, r.z) })
 }
@@ -146,6 +146,12 @@ pub(crate) struct SphereRoot<L: Real> {
 /// for |R| <= 1e4 mm, and needs no divider, whose operations are the
 /// slowest of a step (docs/numerics.md).
 pub(crate) const CURVED: f64 = 1e-4;
+
+/// Whether a sphere of curvature `c` takes the multiplied root ([`CURVED`]).
+#[inline]
+pub(crate) fn is_curved(c: f64) -> bool {
+    c.abs() >= CURVED
+}
 
 /// Step 4: the square root and the root from the closest approach `a`;
 /// `radius` is `1 / c`, and `curved` whether `|c| >= CURVED` (see there).

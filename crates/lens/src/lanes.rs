@@ -25,9 +25,6 @@ pub(crate) trait Real:
     fn fma(self, a: Self, b: Self) -> Self;
     /// Correctly rounded square root.
     fn sqrt(self) -> Self;
-    /// `self` where it is greater than zero, `+0` otherwise (NaN too): what
-    /// x86's `maxpd(self, 0)` computes.
-    fn pos_or_zero(self) -> Self;
     /// The sign bit of `self` alone: `+0` or `-0`.
     fn sign_bit(self) -> Self;
     /// Bitwise exclusive or: `x.xor(s.sign_bit())` flips the sign of `x`
@@ -70,14 +67,6 @@ impl Real for f64 {
     #[inline(always)]
     fn sqrt(self) -> Self {
         f64::sqrt(self)
-    }
-    #[inline(always)]
-    fn pos_or_zero(self) -> Self {
-        if self > 0.0 {
-            self
-        } else {
-            0.0
-        }
     }
     #[inline(always)]
     fn sign_bit(self) -> Self {

@@ -20,8 +20,17 @@ pub fn refract(d: DVec3, n: DVec3, n1: f64, n2: f64) -> Option<DVec3> {
     let mu = n1 / n2;
     let cos = d.dot(n);
     let k = snell_k(mu * mu, one_minus_square(mu), cos * cos);
-    let r = refract_lanes::<f64>(d.x, d.y, d.z, n.x, n.y, n.z, mu, cos, k.pos_or_zero().sqrt());
+    let r = refract_lanes::<f64>(d.x, d.y, d.z, n.x, n.y, n.z, mu, cos, pos_or_zero(k).sqrt());
     (k >= 0.0).then(|| DVec3::new(r[0], r[1], r[2]))
+}
+
+/// `k` where it is greater than zero, `+0` otherwise (NaN too).
+fn pos_or_zero(k: f64) -> f64 {
+    if k > 0.0 {
+        k
+    } else {
+        0.0
+    }
 }
 
 /// `1 - mu^2`, rounded once: the constant part of Snell's `k`.

@@ -59,10 +59,10 @@ pub(crate) const CURVED: u8 = 2;
 fn shape_of(c: f64) -> u8 {
     if c == 0.0 {
         PLANE
-    } else if c.abs() < crate::intersect::CURVED {
-        FLAT
-    } else {
+    } else if crate::intersect::is_curved(c) {
         CURVED
+    } else {
+        FLAT
     }
 }
 

@@ -1,8 +1,8 @@
 //! Workspace-level checks of the shipped data: every prescription in
 //! lens-data/ loads, validates clean and has sane first-order numbers.
 
+use lens::model::{validate::validate, Severity};
 use lens::paraxial::FirstOrder;
-use lens::validate::{validate, Severity};
 
 #[test]
 fn every_shipped_prescription_validates_and_cites_its_source() {
@@ -21,7 +21,7 @@ fn every_shipped_prescription_validates_and_cites_its_source() {
         let p = lens::Prescription::from_spec(&spec).unwrap();
         let f = FirstOrder::of(&p).unwrap();
         assert!(f.efl > 0.0 && f.f_number > 1.0 && f.f_number < 20.0, "{}: {f:?}", path.display());
-        let focus = lens::focus::focus(&p, lens::paraxial::ObjectDistance::Infinity).unwrap();
+        let focus = lens::analysis::focus::focus(&p, lens::paraxial::ObjectDistance::Infinity).unwrap();
         assert!(focus.best_focus_film_distance.is_finite());
     }
     assert_eq!(count, 8, "expected the eight shipped prescriptions");

@@ -1,7 +1,7 @@
 //! `lens bench`: throughput of the batch tracer on one thread.
 
 use crate::{print_json, CmdResult};
-use lens::{bench::Workload, Prescription};
+use lens::{trace::bench::Workload, Prescription};
 use serde_json::json;
 use std::path::PathBuf;
 use std::process::ExitCode;

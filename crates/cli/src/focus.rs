@@ -29,7 +29,7 @@ pub struct Args {
 pub fn run(a: Args) -> CmdResult {
     let p = load(&a.file, a.f_number)?;
     if let Some(film) = a.film_distance {
-        let d = match lens::focus::object_distance_in_focus(&p, film)? {
+        let d = match lens::paraxial::object_distance_in_focus(&p, film)? {
             ObjectDistance::Infinity => None,
             ObjectDistance::Finite(d) => Some(d),
         };
@@ -44,7 +44,7 @@ pub fn run(a: Args) -> CmdResult {
         return Ok(ExitCode::SUCCESS);
     }
     let object = object_distance(a.object_distance)?;
-    let f = lens::focus::focus(&p, object)?;
+    let f = lens::analysis::focus::focus(&p, object)?;
     if a.json {
         print_json(&json!({
             "object_distance": a.object_distance.filter(|d| d.is_finite()),

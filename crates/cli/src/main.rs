@@ -99,7 +99,7 @@ type CmdResult = Result<ExitCode, Box<dyn std::error::Error>>;
 fn load(path: &std::path::Path, f_number: Option<f64>) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
     let p = lens::Prescription::load(path)?;
     Ok(match f_number {
-        Some(n) => p.with_f_number(n)?,
+        Some(n) => lens::analysis::aperture::with_f_number(&p, n)?,
         None => p,
     })
 }

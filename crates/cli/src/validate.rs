@@ -1,7 +1,7 @@
 //! `lens validate`: every finding in every file; exit 1 on any error.
 
 use crate::CmdResult;
-use lens::validate::{has_errors, validate};
+use lens::model::{has_errors, validate::validate};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -40,7 +40,7 @@ pub fn run(a: Args) -> CmdResult {
             println!("{}: error: {e}", path.display());
             continue;
         }
-        let errors = findings.iter().filter(|f| f.severity == lens::validate::Severity::Error).count();
+        let errors = findings.iter().filter(|f| f.severity == lens::model::Severity::Error).count();
         println!(
             "{}: {} ({} error{}, {} warning{})",
             path.display(),

@@ -2,7 +2,7 @@
 //! core and on all cores. Results are recorded in docs/performance.md.
 
 use criterion::{criterion_group, criterion_main, BatchSize, Criterion, Throughput};
-use lens::bench::Workload;
+use lens::trace::bench::Workload;
 use lens::{Outcome, Prescription, Ray};
 use rayon::prelude::*;
 

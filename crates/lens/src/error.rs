@@ -1,6 +1,6 @@
 //! Typed errors of the library. Each message says what to change.
 
-use crate::validate::Finding;
+use crate::model::Finding;
 use std::path::PathBuf;
 
 /// Why a prescription could not be loaded.
@@ -51,15 +51,46 @@ fn list(findings: &[Finding]) -> String {
     findings.iter().map(|f| format!("  {f}")).collect::<Vec<_>>().join("\n")
 }
 
+/// A length or number for a message: up to 6 significant digits, in
+/// scientific notation when very large or small, `infinity` for infinity.
+pub fn num(x: f64) -> String {
+    if x.is_infinite() {
+        return if x > 0.0 { "infinity".into() } else { "-infinity".into() };
+    }
+    if x == 0.0 || !x.is_finite() {
+        return format!("{x}");
+    }
+    let a = x.abs();
+    if (1e-4..1e7).contains(&a) {
+        let digits = (5 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.digits$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.4e}")
+    }
+}
+
+fn object(d: &Option<f64>) -> String {
+    match d {
+        Some(d) => format!("object at {} mm", num(*d)),
+        None => "object at infinity".into(),
+    }
+}
+
 /// Why a first-order (paraxial) or focusing computation has no answer.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum OpticsError {
     /// The system has no optical power (afocal): no focal length or focus.
     #[error("the system is afocal (zero optical power): it has no focal length, focal points or focus")]
     Afocal,
-    /// The object is at (or numerically at) the front focal plane, so the image
-    /// is at infinity and no film distance focuses it.
-    #[error("object at {object_distance} mm is at the front focal plane (front focal distance {ffd} mm): its image is at infinity; move the object away from the focal plane")]
+    /// The object is at (or within a millionth of a focal length of) the
+    /// front focal plane, so the image is at infinity and no film distance
+    /// focuses it.
+    #[error("the object at {} mm is at the front focal plane (front focal point at z = {} mm): its image is at infinity; move the object away from the focal plane", num(*object_distance), num(*ffd))]
     ImageAtInfinity {
         /// Object distance in mm in front of the first vertex.
         object_distance: f64,
@@ -67,17 +98,20 @@ pub enum OpticsError {
         ffd: f64,
     },
     /// The image is virtual or lies before the last vertex: no film can record it.
-    #[error("object at {object_distance} mm forms no real image behind the last surface (image distance {image_distance} mm from the last vertex); move the object beyond the front focal point (z < {ffd} mm)")]
+    #[error("{}: {}", object(object_distance), no_real_image(*image_distance, *ffd, *efl))]
     NoRealImage {
-        /// Object distance in mm in front of the first vertex.
-        object_distance: f64,
+        /// Object distance in mm in front of the first vertex (`None`:
+        /// infinity).
+        object_distance: Option<f64>,
         /// Paraxial image distance from the last vertex (<= 0), mm.
         image_distance: f64,
         /// Signed front focal distance, mm.
         ffd: f64,
+        /// Effective focal length, mm.
+        efl: f64,
     },
     /// No real object is in focus for this film distance.
-    #[error("film distance {film_distance} mm brings no real object into focus (the rear focal point is {bfl} mm behind the last vertex); use a film distance of at least the back focal length")]
+    #[error("a film {} mm behind the last vertex brings no real object into focus: {}", num(*film_distance), no_real_object(*film_distance, *bfl))]
     NoRealObject {
         /// Film distance from the last vertex, mm.
         film_distance: f64,
@@ -85,7 +119,7 @@ pub enum OpticsError {
         bfl: f64,
     },
     /// An input value is out of its domain.
-    #[error("{name} = {value}: {expected}")]
+    #[error("{name} = {}: expected {expected}", num(*value))]
     BadInput {
         /// The argument's name.
         name: &'static str,
@@ -93,6 +127,34 @@ pub enum OpticsError {
         value: f64,
         /// What is accepted.
         expected: &'static str,
+    },
+    /// An f-number faster than the clear apertures let through.
+    #[error("f/{} is faster than the clear apertures allow: surface {surface} (semi-diameter {} mm) limits the on-axis bundle to f/{}; ask for f/{} or slower, or enlarge that surface's semi_diameter", num(*asked), num(*semi_diameter), num(*fastest), num(*fastest))]
+    FNumberTooFast {
+        /// The f-number asked for.
+        asked: f64,
+        /// The fastest paraxial f-number the clear apertures allow.
+        fastest: f64,
+        /// 1-based number of the limiting surface.
+        surface: usize,
+        /// Its semi-diameter, mm.
+        semi_diameter: f64,
+    },
+    /// A prescription changed by a command (a resized stop) is no longer
+    /// valid.
+    #[error("the resized stop makes the prescription invalid: {findings}")]
+    Resized {
+        /// The validation errors, in words.
+        findings: String,
+    },
+    /// A focus distance (measured from the film) nearer than the lens can
+    /// focus, or inside the lens.
+    #[error("a plane {} mm in front of the film cannot be focused: the lens and film span {} mm and a lens focuses no nearer than about 4 focal lengths from the film; focus farther away", num(*distance), num(*lens_length))]
+    FocusTooNear {
+        /// Distance from the film, mm.
+        distance: f64,
+        /// First vertex to film, mm, at the last focus tried.
+        lens_length: f64,
     },
     /// The stop is imaged at infinity on one side (telecentric), so that pupil
     /// has no finite position.
@@ -102,7 +164,7 @@ pub enum OpticsError {
         which: &'static str,
     },
     /// Real-ray aiming did not converge on the requested stop point.
-    #[error("real aiming did not converge for pupil point ({px}, {py}) at {field}: {why}; try --aim paraxial or a smaller field")]
+    #[error("real aiming did not converge for pupil point ({}, {}) at {field}: {why}; try --aim paraxial or a smaller field", num(*px), num(*py))]
     AimingFailed {
         /// Normalised pupil x.
         px: f64,
@@ -122,9 +184,32 @@ pub enum OpticsError {
         why: String,
     },
     /// No real ray of the on-axis bundle reaches the film.
-    #[error("no real ray of the on-axis bundle reaches the film: {why}")]
+    #[error("no real ray reaches the image: {why}")]
     NoRealRays {
         /// What blocked the bundle.
         why: String,
     },
+}
+
+fn no_real_image(image_distance: f64, ffd: f64, efl: f64) -> String {
+    if efl < 0.0 {
+        return format!(
+            "a diverging system (EFL {} mm) forms only virtual images of real objects (image {} mm from the last vertex); no film can record it",
+            num(efl),
+            num(image_distance)
+        );
+    }
+    format!(
+        "the image is virtual or in front of the last vertex ({} mm from it); move the object beyond the front focal point (farther than {} mm in front of the first vertex)",
+        num(image_distance),
+        num(-ffd)
+    )
+}
+
+fn no_real_object(film: f64, bfl: f64) -> String {
+    if film < bfl {
+        format!("the rear focal point is {} mm behind the last vertex; use a film distance of at least that", num(bfl))
+    } else {
+        format!("the rear focal point is {} mm behind the last vertex", num(bfl))
+    }
 }

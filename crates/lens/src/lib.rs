@@ -1,22 +1,24 @@
 //! # lens — real camera lenses as data, traced exactly
 //!
-//! Prescriptions (radius, thickness, index, clear aperture) are read from
-//! JSON or pbrt-v4 `.dat` files ([`Prescription::load`]), checked with every
-//! finding reported ([`validate::validate`]), and traced:
+//! The crate is laid out by concept (docs/architecture.md):
 //!
-//! - exactly, ray by ray ([`Tracer::trace`]) or in vectorised batches
-//!   ([`Tracer::trace_soa`], [`Tracer::trace_batch`]), each ray ending in a
-//!   classified [`Outcome`];
-//! - paraxially ([`paraxial`]): focal lengths, cardinal points, pupils,
-//!   f-numbers, conjugates, a thick-lens model;
-//! - for focus ([`focus`]): the film distance that images an object,
-//!   paraxially and by real rays.
+//! - [`model`]: the prescription as written ([`PrescriptionSpec`]), its
+//!   validation with every finding, and the validated [`Prescription`];
+//! - [`io`]: files in and out (JSON, pbrt-v4 `.dat`);
+//! - [`trace`]: exact real-ray tracing, one ray ([`Tracer::trace`]) or a
+//!   batch ([`Tracer::trace_soa`], [`Tracer::trace_batch`]), each ray ending
+//!   in a classified [`Outcome`]; the surface step is written once;
+//! - [`paraxial`]: first-order optics (focal lengths, cardinal points,
+//!   pupils, f-numbers, conjugates, focus);
+//! - [`analysis`]: what an optical engineer asks of a lens (fans, spots,
+//!   circles of confusion, field curves, best focus), all on one ray-bundle
+//!   primitive traced by the batch tracer.
 //!
-//! Conventions (see DESIGN.md): +z is the optical axis, light travels toward
-//! +z, lengths are millimetres, positions are z from the first vertex, a
-//! radius is positive when its centre lies toward the image. f64 throughout.
-//! The library never panics on user input and never returns NaN: degenerate
-//! cases are error values.
+//! Conventions (docs/architecture.md): +z is the optical axis, light travels
+//! toward +z, lengths are millimetres, positions are z from the first
+//! vertex, a radius is positive when its centre lies toward the image. f64
+//! throughout. The library never panics on user input and never returns
+//! NaN: degenerate cases are error values.
 //!
 //! ```
 //! use lens::{Prescription, paraxial::FirstOrder};
@@ -28,32 +30,14 @@
 //! ```
 
 pub mod analysis;
-#[cfg(target_arch = "x86_64")]
-mod avx2;
-pub mod batch;
-pub mod bench;
-pub mod dat;
 pub mod error;
-pub mod focus;
-pub mod intersect;
-mod lanes;
-mod load;
+pub mod io;
+pub mod model;
 pub mod paraxial;
-pub mod prescription;
-pub mod quadrature;
-pub mod ray;
-pub mod refract;
-pub mod spec;
-pub mod surface;
 pub mod trace;
-pub mod validate;
 
-pub use batch::RayBatch;
 pub use error::{LoadError, OpticsError};
 pub use glam::DVec3;
-pub use load::load_spec;
-pub use prescription::Prescription;
-pub use ray::{Outcome, Ray};
-pub use spec::{PrescriptionSpec, SurfaceSpec};
-pub use surface::Surface;
-pub use trace::{Direction, Tracer};
+pub use io::load_spec;
+pub use model::{Prescription, PrescriptionSpec, Surface, SurfaceSpec};
+pub use trace::{Direction, Outcome, Ray, RayBatch, Tracer};

@@ -138,7 +138,7 @@ fn spot_best_focus_shift_beats_the_paraxial_plane() {
     }
     // and it agrees with the focus solver's real-ray best focus (within the
     // difference of pupil sampling)
-    let focus = lens::focus::focus(&p, lens::paraxial::ObjectDistance::Infinity).unwrap();
+    let focus = lens::analysis::focus::focus(&p, lens::paraxial::ObjectDistance::Infinity).unwrap();
     let shift = focus.best_focus_film_distance - focus.film_distance;
     assert!((s.best_focus_shift - shift).abs() < 2e-4, "{} vs {shift}", s.best_focus_shift);
 }

@@ -102,8 +102,8 @@ proptest! {
     fn focus_inverse_and_thick_lens_model_round_trip(d in 300.0f64..1e6) {
         for name in ["double-gauss-50mm.json", "cooke-triplet.json", "telephoto-250mm.json", "fisheye-10mm.json"] {
             let p = lens::Prescription::load(data_dir().join(name)).unwrap();
-            let film = lens::focus::film_distance(&p, ObjectDistance::Finite(d)).unwrap();
-            let back = lens::focus::object_distance_in_focus(&p, film).unwrap();
+            let film = lens::paraxial::film_distance(&p, ObjectDistance::Finite(d)).unwrap();
+            let back = lens::paraxial::object_distance_in_focus(&p, film).unwrap();
             let ObjectDistance::Finite(d2) = back else { return Err(TestCaseError::fail("infinite")) };
             prop_assert!(rel(d2, d) < 1e-9, "{name}: {d2} vs {d}");
             let thick = lens::paraxial::ThickLens::of(&p).unwrap();
@@ -117,7 +117,7 @@ proptest! {
 fn film_at_the_rear_focal_plane_is_in_focus_at_infinity() {
     let p = lens::Prescription::load(data_dir().join("double-gauss-50mm.json")).unwrap();
     let f = FirstOrder::of(&p).unwrap();
-    assert_eq!(lens::focus::object_distance_in_focus(&p, f.bfl).unwrap(), ObjectDistance::Infinity);
-    let e = lens::focus::object_distance_in_focus(&p, f.bfl - 1.0).unwrap_err();
+    assert_eq!(lens::paraxial::object_distance_in_focus(&p, f.bfl).unwrap(), ObjectDistance::Infinity);
+    let e = lens::paraxial::object_distance_in_focus(&p, f.bfl - 1.0).unwrap_err();
     assert!(matches!(e, lens::OpticsError::NoRealObject { .. }), "{e:?}");
 }

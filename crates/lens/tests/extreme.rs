@@ -2,8 +2,8 @@
 
 mod common;
 use common::*;
-use lens::intersect::intersect;
 use lens::paraxial::{imaging, FirstOrder, ObjectDistance};
+use lens::trace::intersect;
 use lens::{DVec3, OpticsError, Outcome, Ray, Tracer};
 
 #[test]
@@ -41,7 +41,7 @@ fn hemisphere_semi_diameter_equals_radius() {
         }
         assert!(o.ray().direction.is_finite() && o.ray().origin.is_finite());
         let hit = intersect(1.0 / r, DVec3::new(0.0, frac * r, -20.0), DVec3::Z).unwrap();
-        assert!((hit.point.z - lens::surface::sag(1.0 / r, frac * r).unwrap()).abs() < 1e-12);
+        assert!((hit.point.z - lens::model::surface::sag(1.0 / r, frac * r).unwrap()).abs() < 1e-12);
     }
     // beyond the sphere the ray misses surface 1 (no NaN)
     let o = t.trace(Ray::new(DVec3::new(0.0, 1.01 * r, -20.0), DVec3::Z).unwrap());
@@ -53,7 +53,7 @@ fn grazing_incidence_on_a_plane_refracts_at_the_critical_angle() {
     // 89.999 degrees onto glass: the refracted angle approaches asin(1/n).
     let theta = 89.999f64.to_radians();
     let d = DVec3::new(0.0, theta.sin(), theta.cos());
-    let out = lens::refract::refract(d, DVec3::Z, 1.0, 1.5).unwrap();
+    let out = lens::trace::refract(d, DVec3::Z, 1.0, 1.5).unwrap();
     let sin_t = out.y;
     assert!((sin_t - theta.sin() / 1.5).abs() < 1e-15);
     // exactly parallel to a plane: a miss, not a NaN
@@ -68,7 +68,7 @@ fn total_internal_reflection_is_reported_at_its_surface() {
     let o = Tracer::forward(&p).trace(Ray::new(DVec3::new(0.0, 10.0, -5.0), DVec3::Z).unwrap());
     let Outcome::TotalInternalReflection { surface, ray, .. } = o else { panic!("{o:?}") };
     assert_eq!(surface, 1);
-    let sag = lens::surface::sag(-1.0 / 12.0, 10.0).unwrap();
+    let sag = lens::model::surface::sag(-1.0 / 12.0, 10.0).unwrap();
     assert!((ray.origin.z - (10.0 + sag)).abs() < 1e-12);
     assert_eq!(ray.direction, DVec3::Z);
     // just below the critical height (sin i = 1/1.5 at h = 8) it refracts
@@ -97,7 +97,7 @@ fn one_micrometre_stop() {
     let f = FirstOrder::of(&p).unwrap();
     assert!((f.entrance_pupil.diameter - 1e-3).abs() < 1e-15);
     assert!(rel(f.f_number, f.efl / 1e-3) < 1e-12);
-    let focus = lens::focus::focus(&p, ObjectDistance::Infinity).unwrap();
+    let focus = lens::analysis::focus::focus(&p, ObjectDistance::Infinity).unwrap();
     // a pinhole-sized bundle: real and paraxial focus agree to a few nm
     assert!((focus.best_focus_film_distance - focus.film_distance).abs() < 1e-5);
     assert!(focus.rms_radius_at_best_focus < 1e-9);
@@ -112,7 +112,7 @@ fn object_at_1e12_mm_images_at_the_rear_focal_point() {
     let expected = f.bfl + f.efl * f.efl / (1e12 + f.ffd);
     assert!((img.image_distance - expected).abs() < 1e-9, "{} vs {expected}", img.image_distance);
     assert!(img.magnification.is_finite() && img.magnification.abs() < 1e-10);
-    let film = lens::focus::film_distance(&p, ObjectDistance::Finite(1e12)).unwrap();
+    let film = lens::paraxial::film_distance(&p, ObjectDistance::Finite(1e12)).unwrap();
     assert!((film - expected).abs() < 1e-9);
 }
 
@@ -123,9 +123,9 @@ fn object_at_the_front_focal_plane_is_an_error_not_a_nan() {
     let d = -f.ffd;
     let e = imaging(&p, &f, ObjectDistance::Finite(d)).unwrap_err();
     assert!(matches!(e, OpticsError::ImageAtInfinity { .. }), "{e:?}");
-    assert!(lens::focus::film_distance(&p, ObjectDistance::Finite(d)).is_err());
+    assert!(lens::paraxial::film_distance(&p, ObjectDistance::Finite(d)).is_err());
     // just inside the focal plane: a virtual image, also an error for focusing
-    let e = lens::focus::film_distance(&p, ObjectDistance::Finite(d * 0.9)).unwrap_err();
+    let e = lens::paraxial::film_distance(&p, ObjectDistance::Finite(d * 0.9)).unwrap_err();
     assert!(matches!(e, OpticsError::NoRealImage { .. }), "{e:?}");
 }
 

@@ -18,7 +18,7 @@ proptest! {
     /// incident and refracted directions coplanar.
     #[test]
     fn snell_invariants(d in unit_dir(), nrm in unit_dir(), n1 in 1.0f64..2.5, n2 in 1.0f64..2.5) {
-        let Some(out) = lens::refract::refract(d, nrm, n1, n2) else {
+        let Some(out) = lens::trace::refract(d, nrm, n1, n2) else {
             // TIR only when going to a lower index beyond the critical angle
             let sin_i = d.cross(nrm).length();
             prop_assert!(n1 > n2 && n1 * sin_i > n2 * (1.0 - 1e-12));
@@ -93,7 +93,7 @@ fn kind_index(o: &Outcome) -> usize {
 #[test]
 fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
     for (name, p) in shipped_lenses() {
-        let w = lens::bench::Workload::new(&p, 3000).unwrap();
+        let w = lens::trace::bench::Workload::new(&p, 3000).unwrap();
         let mut soa = w.rays.clone();
         w.tracer.trace_soa(&mut soa);
         let rays: Vec<Ray> = (0..w.rays.len())
@@ -196,7 +196,7 @@ fn blocked_rays_carry_the_surface_and_hit_point() {
     let Outcome::Blocked { surface, ray, .. } = o else { panic!("{o:?}") };
     assert_eq!(surface, 0);
     assert!((ray.origin.y - 11.0).abs() < 1e-12);
-    let sag = lens::surface::sag(1.0 / 50.0, 11.0).unwrap();
+    let sag = lens::model::surface::sag(1.0 / 50.0, 11.0).unwrap();
     assert!((ray.origin.z - sag).abs() < 1e-12);
     assert_eq!(ray.direction, DVec3::Z);
 }

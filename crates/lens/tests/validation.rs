@@ -2,7 +2,7 @@
 //! of any shape panics.
 
 mod common;
-use lens::validate::{validate, Severity};
+use lens::model::{validate::validate, Severity};
 use lens::{LoadError, Prescription, PrescriptionSpec};
 use proptest::prelude::*;
 
@@ -126,9 +126,9 @@ fn pbrt_dat_import_of_the_reference_lenses() {
 
 #[test]
 fn malformed_dat_lines_are_errors_with_line_numbers() {
-    let e = lens::dat::parse_dat("# x\n1 2 3\n", "a.dat").unwrap_err().to_string();
+    let e = lens::io::dat::parse_dat("# x\n1 2 3\n", "a.dat").unwrap_err().to_string();
     assert!(e.contains("a.dat: line 2: expected 4 numbers"), "{e}");
-    let e = lens::dat::parse_dat("1 2 x 4\n", "a.dat").unwrap_err().to_string();
+    let e = lens::io::dat::parse_dat("1 2 x 4\n", "a.dat").unwrap_err().to_string();
     assert!(e.contains("ior \"x\" is not a number"), "{e}");
 }
 
@@ -155,14 +155,14 @@ proptest! {
                 prop_assert!(f.efl.is_finite() && f.bfl.is_finite() && f.entrance_pupil.diameter.is_finite());
                 prop_assert!(f.f_number.is_finite());
             }
-            let _ = lens::focus::focus(&p, lens::paraxial::ObjectDistance::Finite(1000.0));
+            let _ = lens::analysis::focus::focus(&p, lens::paraxial::ObjectDistance::Finite(1000.0));
         }
     }
 
     /// Arbitrary text as a .dat or JSON file never panics.
     #[test]
     fn arbitrary_text_never_panics(text in "[ -~\\n\\t]{0,200}") {
-        let _ = lens::dat::parse_dat(&text, "fuzz.dat");
+        let _ = lens::io::dat::parse_dat(&text, "fuzz.dat");
         let _ = PrescriptionSpec::from_json_str(&text, "fuzz.json");
     }
 }

@@ -1,10 +1,11 @@
 //! Circle of confusion: the real blur of defocused on-axis points, beside the
 //! thin-lens prediction.
 
+use crate::analysis::focus::AxialBundle;
 use crate::error::OpticsError;
-use crate::focus::{film_distance, AxialBundle};
+use crate::model::Prescription;
+use crate::paraxial::film_distance;
 use crate::paraxial::{FirstOrder, ObjectDistance};
-use crate::prescription::Prescription;
 use serde::Serialize;
 
 /// The blur of one object distance on the film.

@@ -5,10 +5,11 @@ use super::fan::ImagePlane;
 use super::launch::{Aim, Field};
 use super::pattern::Pattern;
 use super::spot::spot_diagram;
+use crate::analysis::focus::AxialBundle;
 use crate::error::OpticsError;
-use crate::focus::{film_distance, AxialBundle};
+use crate::model::Prescription;
+use crate::paraxial::film_distance;
 use crate::paraxial::ObjectDistance;
-use crate::prescription::Prescription;
 use serde::Serialize;
 use std::time::Instant;
 

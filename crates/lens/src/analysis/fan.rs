@@ -4,8 +4,8 @@
 
 use super::launch::{Aim, Field, Launcher};
 use crate::error::OpticsError;
-use crate::prescription::Prescription;
-use crate::ray::Outcome;
+use crate::model::Prescription;
+use crate::trace::ray::Outcome;
 use crate::trace::Tracer;
 use serde::Serialize;
 

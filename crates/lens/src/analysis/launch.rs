@@ -1,9 +1,9 @@
 //! Fields, pupil coordinates and ray aiming: how rays enter the system.
 
 use crate::error::OpticsError;
+use crate::model::Prescription;
 use crate::paraxial::{imaging, FirstOrder, ObjectDistance};
-use crate::prescription::Prescription;
-use crate::ray::{Outcome, Ray};
+use crate::trace::ray::{Outcome, Ray};
 use crate::trace::Tracer;
 use glam::{DVec2, DVec3};
 

@@ -6,12 +6,15 @@
 //! coordinates (px, py) on the entrance pupil, aimed paraxially or by real
 //! rays onto the stop. Vignetted rays are counted and left out of statistics.
 
+pub mod aperture;
 pub mod coc;
 pub mod convergence;
 pub mod curves;
 pub mod fan;
+pub mod focus;
 pub mod launch;
 pub mod pattern;
+pub mod quadrature;
 pub mod spot;
 
 pub use launch::{Aim, Field, Launcher};

@@ -6,9 +6,9 @@ use super::launch::{Aim, Field, Launcher};
 use super::pattern::{points, Pattern};
 use super::WAVELENGTH_MM;
 use crate::error::OpticsError;
+use crate::model::Prescription;
 use crate::paraxial::imaging;
-use crate::prescription::Prescription;
-use crate::ray::Outcome;
+use crate::trace::ray::Outcome;
 use crate::trace::Tracer;
 use serde::Serialize;
 

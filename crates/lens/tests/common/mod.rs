@@ -13,8 +13,8 @@ pub fn surf(radius: Option<f64>, thickness: f64, ior: Option<f64>, sd: f64, stop
 pub fn singlet(r1: Option<f64>, r2: Option<f64>, t: f64, n: f64, sd: f64, film: f64) -> Prescription {
     let c = |r: Option<f64>| r.map_or(0.0, |r| 1.0 / r);
     let edge = |h: f64| {
-        let s1 = lens::surface::sag(c(r1), h).unwrap_or(f64::NAN);
-        let s2 = lens::surface::sag(c(r2), h).unwrap_or(f64::NAN);
+        let s1 = lens::model::surface::sag(c(r1), h).unwrap_or(f64::NAN);
+        let s2 = lens::model::surface::sag(c(r2), h).unwrap_or(f64::NAN);
         t + s2 - s1
     };
     let mut sd = sd;

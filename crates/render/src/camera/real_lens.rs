@@ -7,7 +7,6 @@
 use super::aperture::Aperture;
 use super::Frame;
 use crate::geometry::Ray;
-use lens::paraxial::ObjectDistance;
 use lens::{DVec3, Prescription, Tracer};
 
 /// Radial bins of the exit-pupil bounds.
@@ -55,7 +54,8 @@ impl RealLensCamera {
         if !(sensor[0] > 0.0 && sensor[1] > 0.0 && sensor[0].is_finite() && sensor[1].is_finite()) {
             return Err("sensor_mm must be two positive sizes in mm".into());
         }
-        let p = focus_from_film(p, focus_m * 1e3)?;
+        let film = lens::paraxial::film_for_focus_from_film(p, focus_m * 1e3).map_err(|e| e.to_string())?;
+        let p = p.with_film_distance(film).map_err(|e| e.to_string())?;
         let z_film = p.total_track();
         let z_rear = p.last_vertex_z();
         let half_diag = 0.5 * (sensor[0].hypot(sensor[1]));
@@ -227,29 +227,4 @@ impl RealLensCamera {
         let dir = to_world(out.direction.x, out.direction.y, -out.direction.z).normalize();
         Some((Ray { origin, dir }, w / self.norm))
     }
-}
-
-/// A copy of `p` whose film distance focuses the plane `distance` mm in
-/// front of the film (object distance = distance - total track, solved by
-/// fixed-point iteration on the exact paraxial focus).
-fn focus_from_film(p: &Prescription, distance: f64) -> Result<Prescription, String> {
-    if !(distance.is_finite() && distance > 0.0) {
-        return Err(format!("focus_distance = {} m: give a positive distance from the film", distance / 1e3));
-    }
-    let z_last = p.last_vertex_z();
-    let mut film = lens::focus::film_distance(p, ObjectDistance::Infinity).map_err(|e| e.to_string())?;
-    for _ in 0..100 {
-        let object = distance - z_last - film;
-        if object <= 0.0 {
-            return Err(format!("focus_distance = {} m is inside the lens: focus farther away", distance / 1e3));
-        }
-        let next = lens::focus::film_distance(p, ObjectDistance::Finite(object))
-            .map_err(|e| format!("focus_distance = {} m: {e}", distance / 1e3))?;
-        if (next - film).abs() <= 1e-12 * film.abs().max(1.0) {
-            film = next;
-            break;
-        }
-        film = next;
-    }
-    p.with_film_distance(film).map_err(|e| e.to_string())
 }

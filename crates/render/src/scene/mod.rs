@@ -426,7 +426,8 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
             let mut lens =
                 lens::Prescription::load(&path).map_err(|e| ("camera.prescription".to_string(), e.to_string()))?;
             if let Some(n) = f_number {
-                lens = lens.with_f_number(*n).map_err(|e| ("camera.f_number".to_string(), e.to_string()))?;
+                lens = lens::analysis::aperture::with_f_number(&lens, *n)
+                    .map_err(|e| ("camera.f_number".to_string(), e.to_string()))?;
             }
             if let Some(sd) = stop_semi_diameter {
                 lens = lens

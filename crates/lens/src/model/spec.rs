@@ -1,8 +1,7 @@
 //! The prescription file format (JSON), as written by a user: radii, not
-//! curvatures, and optional fields. It is checked by [`crate::validate`] and
-//! turned into a [`crate::Prescription`].
+//! curvatures, and optional fields. It is checked by [`super::validate`] and
+//! turned into a [`super::Prescription`]; [`crate::io`] reads and writes it.
 
-use crate::error::LoadError;
 use serde::{Deserialize, Serialize};
 
 /// A prescription file as written (see docs/prescription-format.md).
@@ -52,24 +51,4 @@ pub struct SurfaceSpec {
     /// Marks the aperture stop (exactly one surface).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub stop: bool,
-}
-
-impl PrescriptionSpec {
-    /// Parses JSON text. `origin` names the source in errors (a file name).
-    /// Errors carry serde's 1-based line and column.
-    pub fn from_json_str(text: &str, origin: &str) -> Result<Self, LoadError> {
-        serde_json::from_str(text).map_err(|e| LoadError::Json {
-            origin: origin.to_string(),
-            line: e.line(),
-            column: e.column(),
-            message: e.to_string(),
-        })
-    }
-
-    /// The JSON text of this prescription (pretty-printed).
-    pub fn to_json_string(&self) -> String {
-        // Serialising plain structs of f64/String/bool cannot fail except on
-        // non-finite floats, which serde_json writes as null.
-        serde_json::to_string_pretty(self).unwrap_or_default()
-    }
 }

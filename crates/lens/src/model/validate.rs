@@ -1,50 +1,8 @@
 //! Checks a prescription as written and reports every finding, not the first.
 
-use crate::spec::PrescriptionSpec;
-use crate::surface::sag;
-use std::fmt;
-
-/// How serious a finding is.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Severity {
-    /// The prescription can be used, but something is unusual.
-    Warning,
-    /// The prescription cannot be used until this is changed.
-    Error,
-}
-
-/// One problem found in a prescription.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Finding {
-    /// Error or warning.
-    pub severity: Severity,
-    /// Surface number, 1-based as optical designers count; `None` for the
-    /// prescription as a whole.
-    pub surface: Option<usize>,
-    /// The field concerned (`"radius"`, `"thickness"`, ...), if one.
-    pub field: Option<&'static str>,
-    /// What is wrong and what to change.
-    pub message: String,
-}
-
-impl fmt::Display for Finding {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let level = match self.severity {
-            Severity::Error => "error",
-            Severity::Warning => "warning",
-        };
-        match self.surface {
-            Some(s) => write!(f, "{level}: surface {s}: {}", self.message),
-            None => write!(f, "{level}: {}", self.message),
-        }
-    }
-}
-
-/// Whether any finding is an error.
-pub fn has_errors(findings: &[Finding]) -> bool {
-    findings.iter().any(|f| f.severity == Severity::Error)
-}
+use super::finding::{Finding, Severity};
+use super::spec::{PrescriptionSpec, SurfaceSpec};
+use super::surface::sag;
 
 struct Findings(Vec<Finding>);
 
@@ -71,7 +29,7 @@ const EDGE_SAMPLES: usize = 256;
 /// Warnings: surfaces without a semi-diameter (they do not clip rays).
 ///
 /// ```
-/// use lens::{PrescriptionSpec, validate::validate};
+/// use lens::{PrescriptionSpec, model::validate::validate};
 /// let spec = PrescriptionSpec::from_json_str(r#"{"surfaces": [
 ///   {"radius": 12, "thickness": 2, "ior": 1.5, "semi_diameter": 14, "stop": true},
 ///   {"thickness": 20}]}"#, "<doc>").unwrap();
@@ -145,7 +103,7 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
     out.0
 }
 
-fn check_surface(out: &mut Findings, n: usize, s: &crate::spec::SurfaceSpec) {
+fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
     if let Some(r) = s.radius {
         if !r.is_finite() {
             out.error(
@@ -205,7 +163,7 @@ fn check_surface(out: &mut Findings, n: usize, s: &crate::spec::SurfaceSpec) {
 fn check_edge(out: &mut Findings, spec: &PrescriptionSpec, i: usize) {
     let a = &spec.surfaces[i];
     let b = &spec.surfaces[i + 1];
-    let curvature = |s: &crate::spec::SurfaceSpec| match s.radius {
+    let curvature = |s: &SurfaceSpec| match s.radius {
         Some(r) if r.is_finite() && r != 0.0 => Some(1.0 / r),
         Some(_) => None,
         None => Some(0.0),

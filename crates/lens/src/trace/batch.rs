@@ -7,16 +7,15 @@
 //! over the lane type of `lanes.rs`.
 
 #[cfg(target_arch = "x86_64")]
-use crate::avx2::F64x4;
+use super::avx2::F64x4;
+use super::ray::{Outcome, Ray};
+#[cfg(target_arch = "x86_64")]
+use super::step::{kind_of, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, CURVED, FLAT, PLANE};
+use super::step::{Lane, PASSED};
+use super::tracer::Tracer;
 use crate::error::OpticsError;
 #[cfg(target_arch = "x86_64")]
-use crate::intersect::{approach, Approach};
-use crate::ray::{Outcome, Ray};
-#[cfg(target_arch = "x86_64")]
-use crate::trace::{
-    kind_of, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, CURVED, FLAT, PLANE,
-};
-use crate::trace::{Lane, Tracer, PASSED};
+use crate::trace::step::{approach, Approach};
 use glam::DVec3;
 
 /// Rays as a structure of arrays (global frame, mm). After
@@ -649,7 +648,7 @@ fn stop_rays(
 
 #[cfg(test)]
 mod tests {
-    use crate::bench::Workload;
+    use crate::trace::bench::Workload;
     use crate::Prescription;
 
     /// The portable path (for CPUs without AVX2) gives the vector path's

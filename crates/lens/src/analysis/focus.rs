@@ -1,12 +1,12 @@
-//! Focus solving: the film distance that images an object, paraxially
-//! (exact first order) and by real rays (the film position of least RMS spot
-//! of the on-axis bundle); and the inverse, the object in focus for a film.
+//! Real-ray focus: the film position of least RMS spot of the on-axis
+//! bundle, beside the paraxial focus ([`crate::paraxial::focus`]), and the
+//! on-axis bundle the circle of confusion also measures.
 
+use crate::analysis::quadrature::gauss_legendre;
 use crate::error::OpticsError;
-use crate::paraxial::{imaging, object_in_focus, FirstOrder, ObjectDistance};
-use crate::prescription::Prescription;
-use crate::quadrature::gauss_legendre;
-use crate::ray::Ray;
+use crate::model::Prescription;
+use crate::paraxial::{film_distance, FirstOrder, ObjectDistance};
+use crate::trace::ray::Ray;
 use crate::trace::Tracer;
 use glam::DVec3;
 use serde::Serialize;
@@ -30,40 +30,6 @@ pub struct Focus {
     /// Fraction of the entrance-pupil radius that the real bundle fills
     /// (1 when no clear aperture vignettes the on-axis bundle).
     pub pupil_fill: f64,
-}
-
-/// The paraxial film distance (last vertex to image, mm) that focuses an
-/// object. Errors at the front focal plane and where the image is not real
-/// (behind the film side of the last vertex).
-///
-/// ```
-/// use lens::{Prescription, paraxial::ObjectDistance, focus::film_distance};
-/// let p = Prescription::from_json_str(r#"{"surfaces": [
-///   {"radius": 51.5, "thickness": 3.6, "ior": 1.5168, "semi_diameter": 12.7, "stop": true},
-///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
-/// let far = film_distance(&p, ObjectDistance::Infinity).unwrap();
-/// let near = film_distance(&p, ObjectDistance::Finite(1000.0)).unwrap();
-/// assert!(near > far); // nearer objects focus farther back
-/// ```
-pub fn film_distance(p: &Prescription, object: ObjectDistance) -> Result<f64, OpticsError> {
-    let first = FirstOrder::of(p)?;
-    let img = imaging(p, &first, object)?;
-    if img.image_distance > 0.0 {
-        Ok(img.image_distance)
-    } else {
-        let d = match object {
-            ObjectDistance::Infinity => f64::MAX,
-            ObjectDistance::Finite(d) => d,
-        };
-        Err(OpticsError::NoRealImage { object_distance: d, image_distance: img.image_distance, ffd: first.ffd })
-    }
-}
-
-/// The object in focus on a film `film_distance` mm behind the last vertex
-/// (the inverse of [`film_distance`]).
-pub fn object_distance_in_focus(p: &Prescription, film_distance: f64) -> Result<ObjectDistance, OpticsError> {
-    let first = FirstOrder::of(p)?;
-    object_in_focus(p, &first, film_distance)
 }
 
 /// Focuses on `object`: the paraxial film distance and the real-ray best

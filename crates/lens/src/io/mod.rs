@@ -1,7 +1,12 @@
-//! Reading prescription files from disk, by format.
+//! Prescription files in and out: JSON (our format) and pbrt-v4 `.dat`,
+//! chosen by the file's extension. Nothing here computes optics; the model
+//! is in [`crate::model`].
+
+pub mod dat;
+pub mod json;
 
 use crate::error::LoadError;
-use crate::spec::PrescriptionSpec;
+use crate::model::{Prescription, PrescriptionSpec};
 use std::path::Path;
 
 /// Reads a prescription file as written, without validating it: pbrt-v4
@@ -16,8 +21,18 @@ pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
         LoadError::Json { origin: origin.clone(), line, column, message: "the file is not UTF-8 text".into() }
     })?;
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("dat")) {
-        crate::dat::parse_dat(&text, &origin)
+        dat::parse_dat(&text, &origin)
     } else {
         PrescriptionSpec::from_json_str(&text, &origin)
+    }
+}
+
+impl Prescription {
+    /// Loads a prescription file: pbrt-v4 `.dat` by its extension, JSON
+    /// otherwise. Errors name the file, and for JSON the line and column.
+    pub fn load(path: impl AsRef<Path>) -> Result<Self, LoadError> {
+        let path = path.as_ref();
+        let spec = load_spec(path)?;
+        Self::from_spec(&spec).map_err(|findings| LoadError::Invalid { origin: path.display().to_string(), findings })
     }
 }

@@ -7,14 +7,14 @@
 //! paraxial focus for an object at infinity".
 
 use crate::error::LoadError;
-use crate::spec::{PrescriptionSpec, SurfaceSpec};
+use crate::model::{Prescription, PrescriptionSpec, SurfaceSpec};
 
 /// Parses a pbrt `.dat` lens file into a prescription spec (not yet
 /// validated). `origin` names the file in errors.
 ///
 /// ```
 /// let text = "# a singlet\n50 3 1.5 20\n0 1 0 16\n-50 0 1 20\n";
-/// let spec = lens::dat::parse_dat(text, "<doc>").unwrap();
+/// let spec = lens::io::dat::parse_dat(text, "<doc>").unwrap();
 /// assert!(spec.surfaces[1].stop);
 /// // the film was placed at the paraxial focus for infinity
 /// assert!(spec.surfaces[2].thickness > 40.0);
@@ -83,7 +83,7 @@ fn focus_last_thickness_at_infinity(spec: &mut PrescriptionSpec) {
     if let Some(l) = probe.surfaces.last_mut() {
         l.thickness = 1.0;
     }
-    let Ok(p) = crate::Prescription::from_spec(&probe) else { return };
+    let Ok(p) = Prescription::from_spec(&probe) else { return };
     if let Ok(first) = crate::paraxial::FirstOrder::of(&p) {
         if let Some(l) = spec.surfaces.last_mut() {
             l.thickness = first.bfl;

@@ -1,10 +1,10 @@
 //! A validated lens prescription: the data every computation reads.
 
-use crate::error::{LoadError, OpticsError};
-use crate::spec::{PrescriptionSpec, SurfaceSpec};
-use crate::surface::Surface;
-use crate::validate::{has_errors, validate, Finding};
-use std::path::Path;
+use super::finding::{has_errors, Finding, Severity};
+use super::spec::{PrescriptionSpec, SurfaceSpec};
+use super::surface::Surface;
+use super::validate::validate;
+use crate::error::OpticsError;
 
 /// A validated prescription: surfaces object side first, exactly one stop,
 /// every number finite. Build it with [`Prescription::from_spec`] or
@@ -31,20 +31,6 @@ impl Prescription {
         let surfaces: Vec<Surface> = spec.surfaces.iter().map(surface_from_spec).collect();
         let stop = surfaces.iter().position(|s| s.stop).ok_or_else(Vec::new)?;
         Ok(Prescription { name: spec.name.clone().unwrap_or_default(), source: spec.source.clone(), surfaces, stop })
-    }
-
-    /// Loads a prescription file: pbrt-v4 `.dat` by its extension, JSON
-    /// otherwise. Errors name the file, and for JSON the line and column.
-    pub fn load(path: impl AsRef<Path>) -> Result<Self, LoadError> {
-        let path = path.as_ref();
-        let spec = crate::load_spec(path)?;
-        Self::from_spec(&spec).map_err(|findings| LoadError::Invalid { origin: path.display().to_string(), findings })
-    }
-
-    /// Parses and validates JSON text; `origin` names it in errors.
-    pub fn from_json_str(text: &str, origin: &str) -> Result<Self, LoadError> {
-        let spec = PrescriptionSpec::from_json_str(text, origin)?;
-        Self::from_spec(&spec).map_err(|findings| LoadError::Invalid { origin: origin.to_string(), findings })
     }
 
     /// The prescription as a file spec (radii, optional fields), for writing.
@@ -153,36 +139,8 @@ impl Prescription {
         Ok(p)
     }
 
-    /// A copy whose stop is resized so that the paraxial f-number
-    /// (|EFL| / entrance-pupil diameter, object at infinity) equals `f_number`.
-    /// The other clear apertures are kept, so they may vignette a larger stop.
-    pub fn with_f_number(&self, f_number: f64) -> Result<Self, OpticsError> {
-        if !(f_number.is_finite() && f_number > 0.0) {
-            return Err(OpticsError::BadInput {
-                name: "f_number",
-                value: f_number,
-                expected: "a positive, finite f-number",
-            });
-        }
-        let first = crate::paraxial::FirstOrder::of(self)?;
-        let target_epd = first.efl.abs() / f_number;
-        let scale = target_epd / first.entrance_pupil.diameter;
-        let sd = self.stop_semi_diameter() * scale;
-        if let Some(r) = self.surfaces[self.stop].radius() {
-            if sd > r.abs() {
-                return Err(OpticsError::BadInput {
-                    name: "f_number",
-                    value: f_number,
-                    expected: "an f-number whose stop fits on the curved stop surface",
-                });
-            }
-        }
-        let mut p = self.clone();
-        p.surfaces[self.stop].semi_diameter = Some(sd);
-        Ok(p)
-    }
-
-    /// A copy with the stop's clear radius set to `semi_diameter` mm.
+    /// A copy with the stop's clear radius set to `semi_diameter` mm,
+    /// validated again (errors name what the larger stop breaks).
     pub fn with_stop_semi_diameter(&self, semi_diameter: f64) -> Result<Self, OpticsError> {
         let bad = OpticsError::BadInput {
             name: "stop semi_diameter",
@@ -199,6 +157,12 @@ impl Prescription {
         }
         let mut p = self.clone();
         p.surfaces[self.stop].semi_diameter = Some(semi_diameter);
+        // a larger stop may now cross its neighbours: check as a file would be
+        let findings = validate(&p.to_spec());
+        if has_errors(&findings) {
+            let list = findings.iter().filter(|f| f.severity == Severity::Error).map(|f| f.to_string());
+            return Err(OpticsError::Resized { findings: list.collect::<Vec<_>>().join("; ") });
+        }
         Ok(p)
     }
 }

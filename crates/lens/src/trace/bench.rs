@@ -1,11 +1,11 @@
 //! A reproducible tracing workload and its timing, behind `lens bench` and
 //! the criterion benchmark: full-aperture bundles over a range of fields.
 
-use crate::batch::RayBatch;
+use super::batch::RayBatch;
+use super::ray::Ray;
 use crate::error::OpticsError;
+use crate::model::Prescription;
 use crate::paraxial::FirstOrder;
-use crate::prescription::Prescription;
-use crate::ray::Ray;
 use crate::trace::Tracer;
 use glam::DVec3;
 use std::time::{Duration, Instant};

@@ -5,7 +5,7 @@
 /// The weights sum to b - a.
 ///
 /// ```
-/// let (x, w) = lens::quadrature::gauss_legendre(5, 0.0, 1.0);
+/// let (x, w) = lens::analysis::quadrature::gauss_legendre(5, 0.0, 1.0);
 /// let integral: f64 = x.iter().zip(&w).map(|(x, w)| w * x.powi(9)).sum();
 /// assert!((integral - 0.1).abs() < 1e-15);
 /// ```

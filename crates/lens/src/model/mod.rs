@@ -1,0 +1,16 @@
+//! The optical model as data: the prescription file as written
+//! ([`spec`]), its validation with every finding ([`validate`],
+//! [`finding`]), and the validated prescription ([`Prescription`]) of
+//! [`Surface`]s that every computation reads. Nothing here traces rays or
+//! computes first-order optics; see docs/architecture.md for the layout.
+
+pub mod finding;
+pub mod prescription;
+pub mod spec;
+pub mod surface;
+pub mod validate;
+
+pub use finding::{has_errors, Finding, Severity};
+pub use prescription::Prescription;
+pub use spec::{PrescriptionSpec, SurfaceSpec};
+pub use surface::Surface;

@@ -1,0 +1,239 @@
+//! The tracer: a prescription laid out as a list of [steps](super::step)
+//! for one direction of travel, and the one-ray entry points (a ray, a
+//! ray's path, a ray's hit on one surface). The batch entry points are in
+//! [`super::batch`]; both run the same step kernel, so they agree bit for
+//! bit.
+
+use super::ray::{Outcome, Ray};
+use super::step::*;
+use crate::model::Prescription;
+use glam::DVec3;
+
+/// Which way rays travel through the prescription.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// From object space through surface 1 .. n to the film.
+    ObjectToImage,
+    /// From the film (or image space) through surface n .. 1 into object
+    /// space, as a renderer's camera rays do.
+    ImageToObject,
+}
+
+/// A prescription laid out for tracing in one direction. Cheap to build;
+/// build once and trace many rays.
+///
+/// ```
+/// use glam::DVec3;
+/// use lens::{Prescription, Tracer, Ray};
+/// let p = Prescription::from_json_str(r#"{"surfaces": [
+///   {"radius": 51.5, "thickness": 3.6, "ior": 1.5168, "semi_diameter": 12.7, "stop": true},
+///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
+/// let tracer = Tracer::forward(&p);
+/// let ray = Ray::new(DVec3::new(0.0, 1.0, -10.0), DVec3::Z).unwrap();
+/// let on_film = tracer.trace(ray).reached().unwrap();
+/// assert!(on_film.origin.y.abs() < 0.01); // near the focus of a 100 mm lens
+/// ```
+#[derive(Debug, Clone, PartialEq)]
+pub struct Tracer {
+    pub(crate) steps: Vec<Step>,
+    direction: Direction,
+}
+
+impl Tracer {
+    /// Object to the film at the prescription's film distance.
+    pub fn forward(p: &Prescription) -> Self {
+        Self::forward_to_film(p, p.film_distance())
+    }
+
+    /// Object to a film `film_distance` mm behind the last vertex (any finite
+    /// value; the film is a plane without clipping).
+    pub fn forward_to_film(p: &Prescription, film_distance: f64) -> Self {
+        let z = p.vertex_z();
+        let s = p.surfaces();
+        let mut steps: Vec<Step> = s
+            .iter()
+            .enumerate()
+            .map(|(i, surf)| {
+                let n1 = p.index_before(i);
+                surface_step(surf, i, n1, surf.ior, if i == 0 { 0.0 } else { s[i - 1].thickness }, z[i])
+            })
+            .collect();
+        let last = s.len() - 1;
+        steps.push(Step {
+            c: 0.0,
+            sd2: f64::INFINITY,
+            mu: 1.0,
+            n_before: s[last].ior,
+            shift: film_distance,
+            vertex_z: z[last] + film_distance,
+            surface: s.len(),
+            refract: false,
+            shape: PLANE,
+        });
+        Tracer { steps, direction: Direction::ObjectToImage }
+    }
+
+    /// From image space (the film) back to object space. The ray starts in
+    /// the global frame; the outcome `Reached` holds it at the first surface
+    /// with its object-space direction.
+    pub fn reverse(p: &Prescription) -> Self {
+        let z = p.vertex_z();
+        let s = p.surfaces();
+        let n = s.len();
+        let steps = (0..n)
+            .rev()
+            .map(|i| {
+                let shift = if i == n - 1 { z[i] } else { -s[i].thickness };
+                surface_step(&s[i], i, s[i].ior, p.index_before(i), shift, z[i])
+            })
+            .collect();
+        Tracer { steps, direction: Direction::ImageToObject }
+    }
+
+    /// Object space to the stop surface, with no clear aperture clipping:
+    /// the outcome `Reached` holds the ray at its hit on the stop surface.
+    /// Used to aim real rays at the stop.
+    pub fn to_stop_unclipped(p: &Prescription) -> Tracer {
+        let mut t = Tracer::forward(p);
+        t.steps.truncate(p.stop_index() + 1);
+        for s in &mut t.steps {
+            s.sd2 = f64::INFINITY;
+        }
+        t
+    }
+
+    /// Object space to the film with the stop's clear aperture left open
+    /// (the other surfaces clip as usual): what finds the aperture the
+    /// other surfaces allow.
+    pub fn forward_without_stop(p: &Prescription) -> Tracer {
+        let mut t = Tracer::forward(p);
+        t.steps[p.stop_index()].sd2 = f64::INFINITY;
+        t
+    }
+
+    /// Direction of travel.
+    pub fn direction(&self) -> Direction {
+        self.direction
+    }
+
+    /// Number of ray-surface steps per ray (surfaces, plus the film going
+    /// forward).
+    pub fn step_count(&self) -> usize {
+        self.steps.len()
+    }
+
+    /// Traces one ray (global frame) and classifies how it ended.
+    pub fn trace(&self, ray: Ray) -> Outcome {
+        self.walk_fastest(ray, |_, _, _| {})
+    }
+
+    /// [`Self::walk`] with hardware fused multiply-add where the CPU has it.
+    #[inline(always)]
+    fn walk_fastest(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
+        #[cfg(target_arch = "x86_64")]
+        if simd_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            return unsafe { self.walk_fma(ray, visit) };
+        }
+        self.walk(ray, visit)
+    }
+
+    /// [`Self::walk`] compiled with hardware fused multiply-add. The kernel
+    /// uses `mul_add` everywhere, which is exactly rounded with or without
+    /// the instruction, so this only changes the speed, never the bits.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn walk_fma(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
+        self.walk(ray, visit)
+    }
+
+    /// Traces one ray and also returns the global point where it met each
+    /// surface (and the film), in order, up to where it stopped: the path a
+    /// layout drawing shows. The outcome is that of [`Self::trace`].
+    pub fn trace_path(&self, ray: Ray) -> (Vec<DVec3>, Outcome) {
+        let mut path = vec![ray.origin];
+        let visit = |s: &Step, l: &Lane<f64>, kind: u64| {
+            if kind != MISSED {
+                path.push(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
+            }
+        };
+        let outcome = self.walk_fastest(ray, visit);
+        (path, outcome)
+    }
+
+    /// Traces one ray and also returns where it met surface `surface`
+    /// (0-based; global frame), if it got that far: what a shaped stop needs,
+    /// without recording the whole path.
+    pub fn trace_at_surface(&self, ray: Ray, surface: usize) -> (Outcome, Option<DVec3>) {
+        let mut at = None;
+        let visit = |s: &Step, l: &Lane<f64>, kind: u64| {
+            if s.surface == surface && kind != MISSED {
+                at = Some(DVec3::new(l.px, l.py, l.pz + s.vertex_z));
+            }
+        };
+        let outcome = self.walk_fastest(ray, visit);
+        (outcome, at)
+    }
+
+    /// Carries `ray` step by step until it stops, showing `visit` each
+    /// step's result.
+    #[inline(always)]
+    fn walk(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
+        let start = Lane {
+            px: ray.origin.x,
+            py: ray.origin.y,
+            pz: ray.origin.z,
+            dx: ray.direction.x,
+            dy: ray.direction.y,
+            dz: ray.direction.z,
+            opl: 0.0,
+        };
+        let (l, k, kind) = self.walk_lane(start, visit);
+        self.outcome(l, k, kind)
+    }
+
+    /// Carries one ray from `l` (global frame) step by step until it stops;
+    /// returns its state in the frame of the step `k` where it stopped (the
+    /// last when it passed every one) and the kind of the stop.
+    #[inline(always)]
+    pub(crate) fn walk_lane(
+        &self,
+        mut l: Lane<f64>,
+        mut visit: impl FnMut(&Step, &Lane<f64>, u64),
+    ) -> (Lane<f64>, usize, u64) {
+        for (k, s) in self.steps.iter().enumerate() {
+            let out = step_dispatch(s, &StepLanes::of(s), l);
+            let kind = out.verdict.kind();
+            if kind != PASSED {
+                l = stopped(s, l, out.next, kind);
+                visit(s, &l, kind);
+                return (l, k, kind);
+            }
+            l = out.next;
+            visit(s, &l, kind);
+        }
+        (l, self.steps.len() - 1, PASSED)
+    }
+
+    /// Builds the outcome of a ray whose state `l` is in the frame of step `k`.
+    pub(crate) fn outcome(&self, l: Lane<f64>, k: usize, kind: u64) -> Outcome {
+        let z = l.pz + self.steps[k].vertex_z;
+        self.classify(
+            Ray { origin: DVec3::new(l.px, l.py, z), direction: DVec3::new(l.dx, l.dy, l.dz) },
+            l.opl,
+            k,
+            kind,
+        )
+    }
+
+    /// Builds the outcome of a ray (global frame) that stopped at step `k`.
+    pub(crate) fn classify(&self, ray: Ray, opl: f64, k: usize, kind: u64) -> Outcome {
+        let surface = self.steps[k].surface;
+        match kind {
+            PASSED => Outcome::Reached { ray, opl },
+            MISSED => Outcome::Missed { surface, ray, opl },
+            BLOCKED => Outcome::Blocked { surface, ray, opl },
+            _ => Outcome::TotalInternalReflection { surface, ray, opl },
+        }
+    }
+}

@@ -4,7 +4,7 @@
 use crate::analysis::focus::AxialBundle;
 use crate::error::OpticsError;
 use crate::model::Prescription;
-use crate::paraxial::film_distance;
+use crate::paraxial::focus::film_distance_with;
 use crate::paraxial::{FirstOrder, ObjectDistance};
 use serde::Serialize;
 
@@ -58,12 +58,12 @@ pub fn circle_of_confusion(p: &Prescription, s1: f64, distances: &[f64]) -> Resu
         });
     };
     let first = FirstOrder::of(p)?;
-    let film = film_distance(p, ObjectDistance::Finite(s1))?;
+    let film = film_distance_with(p, &first, ObjectDistance::Finite(s1))?;
     let (f, a) = (first.efl, first.entrance_pupil.diameter);
     let mut rows = Vec::with_capacity(distances.len());
     for &s2 in distances {
         let object = ObjectDistance::from_mm(s2)?;
-        let bundle = AxialBundle::trace(p, object, film)?;
+        let bundle = AxialBundle::trace(p, &first, object, film)?;
         let thin = match object {
             ObjectDistance::Infinity => a * f / (s1 - f),
             ObjectDistance::Finite(s2) => a * (s2 - s1).abs() / s2 * f / (s1 - f),

@@ -8,7 +8,8 @@ use super::spot::spot_diagram;
 use crate::analysis::focus::AxialBundle;
 use crate::error::OpticsError;
 use crate::model::Prescription;
-use crate::paraxial::film_distance;
+use crate::paraxial::focus::film_distance_with;
+use crate::paraxial::FirstOrder;
 use crate::paraxial::ObjectDistance;
 use serde::Serialize;
 use std::time::Instant;
@@ -81,11 +82,12 @@ pub fn spot_rms(p: &Prescription, field: Field) -> Result<Convergence, OpticsErr
 /// at `s1` mm, by Gauss–Legendre rings (the method `lens coc` uses), against
 /// 512 rings.
 pub fn coc_rms(p: &Prescription, s1: f64, s2: f64) -> Result<Convergence, OpticsError> {
-    let film = film_distance(p, ObjectDistance::from_mm(s1)?)?;
+    let first = FirstOrder::of(p)?;
+    let film = film_distance_with(p, &first, ObjectDistance::from_mm(s1)?)?;
     let object = ObjectDistance::from_mm(s2)?;
     let estimate = |nodes: usize| -> Result<(f64, f64, usize), OpticsError> {
         let t = Instant::now();
-        let b = AxialBundle::trace_with(p, object, film, nodes)?;
+        let b = AxialBundle::trace_with(p, &first, object, film, nodes)?;
         Ok((t.elapsed().as_secs_f64(), 2.0 * b.rms_at(0.0), b.rays))
     };
     let (_, reference, _) = estimate(512)?;

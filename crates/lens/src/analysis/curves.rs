@@ -2,13 +2,13 @@
 //! sagittal field curvature, longitudinal spherical aberration, and
 //! vignetting / relative illumination against field.
 
-use super::fan::trace_point;
+use super::bundle::{describe_outcome, trace_rays, Bundle, Landing};
 use super::launch::{Aim, Field, Launcher};
 use super::pattern::{points, Pattern};
 use crate::error::OpticsError;
 use crate::model::Prescription;
 use crate::paraxial::FirstOrder;
-use crate::trace::ray::{Outcome, Ray};
+use crate::trace::Ray;
 use crate::trace::Tracer;
 use glam::DVec3;
 use serde::Serialize;
@@ -79,6 +79,7 @@ pub fn field_curves(
     let first = FirstOrder::of(p)?;
     let image_z = p.last_vertex_z() + first.bfl;
     let tracer = Tracer::forward_to_film(p, first.bfl);
+    let base = Launcher::with_first(p, &first, Field::Angle(0.0), aim)?;
     let max = match max_field_deg {
         Some(m) if m.is_finite() && m > 0.0 && m < 90.0 => m,
         Some(m) => {
@@ -88,17 +89,17 @@ pub fn field_curves(
                 expected: "an angle in degrees between 0 and 90",
             })
         }
-        None => largest_field(p, &tracer, aim),
+        None => largest_field(&base, &tracer),
     };
     if n > 10_000 {
         return Err(OpticsError::BadInput { name: "fields", value: n as f64, expected: "at most 10000 fields" });
     }
     let n = n.max(2);
-    let on_axis = vignetting(p, &tracer, 0.0, aim)?;
+    let on_axis = vignetting(&base, &tracer, 0.0)?;
     let mut fields = Vec::with_capacity(n);
     for k in 0..n {
         let deg = max * k as f64 / (n - 1) as f64;
-        fields.push(field_point(p, &tracer, &first, deg, aim, on_axis)?);
+        fields.push(field_point(&base, &tracer, &first, deg, on_axis)?);
     }
     Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, image_z) })
 }
@@ -116,36 +117,59 @@ pub fn distortion(p: &Prescription, field: Field, aim: Aim) -> Result<f64, Optic
         Field::Angle(deg) => first.efl * deg.to_radians().tan(),
         Field::Height { height, .. } => crate::paraxial::imaging(p, first, field.object())?.magnification * height,
     };
-    let h = trace_point(&launcher, &tracer, 0.0, 0.0)?
-        .ok_or_else(|| OpticsError::ChiefRayLost { field: field.describe(), why: "vignetted".into() })?[1];
+    let h = chief(&launcher, &tracer)?[1];
     Ok(if paraxial == 0.0 { 0.0 } else { 100.0 * (h - paraxial) / paraxial })
 }
 
-fn chief_height(p: &Prescription, tracer: &Tracer, deg: f64, aim: Aim) -> Result<f64, OpticsError> {
-    let l = Launcher::new(p, Field::Angle(deg), aim)?;
-    trace_point(&l, tracer, 0.0, 0.0)?
-        .map(|h| h[1])
-        .ok_or_else(|| OpticsError::ChiefRayLost { field: Field::Angle(deg).describe(), why: "vignetted".into() })
+/// The chief ray's point on the tracer's image plane.
+fn chief(launcher: &Launcher, tracer: &Tracer) -> Result<[f64; 2], OpticsError> {
+    let b = Bundle::trace(launcher, tracer, vec![(0.0, 0.0)])?;
+    match b.landings[0] {
+        Landing::Reached(r) => Ok([r.origin.x, r.origin.y]),
+        Landing::Stopped(o) => {
+            Err(OpticsError::ChiefRayLost { field: launcher.field().describe(), why: describe_outcome(&o) })
+        }
+        Landing::AimFailed => Err(OpticsError::ChiefRayLost {
+            field: launcher.field().describe(),
+            why: "real aiming found no chief ray".into(),
+        }),
+    }
 }
 
+fn chief_height(base: &Launcher, tracer: &Tracer, deg: f64) -> Result<f64, OpticsError> {
+    Ok(chief(&base.at_field(Field::Angle(deg))?, tracer)?[1])
+}
+
+/// The chief ray and its four neighbours (the focus-locating pairs).
+const PROBES: [(f64, f64); 5] = [(0.0, 0.0), (0.0, DELTA), (0.0, -DELTA), (DELTA, 0.0), (-DELTA, 0.0)];
+
 fn field_point(
-    p: &Prescription,
+    base: &Launcher,
     tracer: &Tracer,
     first: &FirstOrder,
     deg: f64,
-    aim: Aim,
     on_axis: f64,
 ) -> Result<FieldPoint, OpticsError> {
-    let launcher = Launcher::new(p, Field::Angle(deg), aim)?;
+    let launcher = base.at_field(Field::Angle(deg))?;
     let theta = deg.to_radians();
-    let h = chief_height(p, tracer, deg, aim)?;
+    let probes = Bundle::trace(&launcher, tracer, PROBES.to_vec())?;
+    let h = match probes.landings[0] {
+        Landing::Reached(r) => r.origin.y,
+        Landing::Stopped(o) => {
+            return Err(OpticsError::ChiefRayLost { field: Field::Angle(deg).describe(), why: describe_outcome(&o) })
+        }
+        Landing::AimFailed => {
+            return Err(OpticsError::ChiefRayLost {
+                field: Field::Angle(deg).describe(),
+                why: "real aiming found no chief ray".into(),
+            })
+        }
+    };
     let paraxial = first.efl * theta.tan();
     let distortion = if deg == 0.0 { 0.0 } else { 100.0 * (h - paraxial) / paraxial };
-    let pair = |a: (f64, f64), b: (f64, f64), tangential: bool| -> Result<f64, OpticsError> {
-        let ra = tracer.trace(launcher.ray(a.0, a.1)?);
-        let rb = tracer.trace(launcher.ray(b.0, b.1)?);
-        match (ra, rb) {
-            (Outcome::Reached { ray: ra, .. }, Outcome::Reached { ray: rb, .. }) => {
+    let pair = |a: usize, b: usize, tangential: bool| -> Result<f64, OpticsError> {
+        match (probes.landings[a].reached(), probes.landings[b].reached()) {
+            (Some(ra), Some(rb)) => {
                 let (pa, pb, sa, sb) = if tangential {
                     (ra.origin.y, rb.origin.y, ra.direction.y / ra.direction.z, rb.direction.y / rb.direction.z)
                 } else {
@@ -159,16 +183,16 @@ fn field_point(
             }),
         }
     };
-    let tangential_focus = pair((0.0, DELTA), (0.0, -DELTA), true)?;
-    let sagittal_focus = pair((DELTA, 0.0), (-DELTA, 0.0), false)?;
-    let fraction = vignetting(p, tracer, deg, aim)?;
+    let tangential_focus = pair(1, 2, true)?;
+    let sagittal_focus = pair(3, 4, false)?;
+    let fraction = vignetting(base, tracer, deg)?;
     let relative_illumination = if deg == 0.0 {
         1.0
     } else {
         // dh/dtheta by a central difference of the real chief-ray height
         let step = (0.01f64).min(deg / 2.0);
-        let hp = chief_height(p, tracer, deg + step, aim).unwrap_or(h);
-        let hm = chief_height(p, tracer, deg - step, aim)?;
+        let hp = chief_height(base, tracer, deg + step).unwrap_or(h);
+        let hm = chief_height(base, tracer, deg - step)?;
         let dh = (hp - hm) / (2.0 * step.to_radians());
         let f = first.efl;
         let ri = (fraction / on_axis) * theta.cos() * f * f / (dh * h / theta.sin());
@@ -190,30 +214,22 @@ fn field_point(
     })
 }
 
-/// Fraction of a square pupil grid that reaches the image at `deg`.
-fn vignetting(p: &Prescription, tracer: &Tracer, deg: f64, aim: Aim) -> Result<f64, OpticsError> {
-    let launcher = Launcher::new(p, Field::Angle(deg), aim)?;
+/// Fraction of a square pupil grid that reaches the image at `deg` (a ray
+/// that cannot be aimed counts as vignetted).
+fn vignetting(base: &Launcher, tracer: &Tracer, deg: f64) -> Result<f64, OpticsError> {
+    let launcher = base.at_field(Field::Angle(deg))?;
     let pts = points(Pattern::Square, GRID);
-    let mut pass = 0;
-    for &(px, py) in &pts {
-        // a ray that cannot be aimed counts as vignetted
-        if let Ok(r) = launcher.ray(px, py) {
-            if tracer.trace(r).reached().is_some() {
-                pass += 1;
-            }
-        }
-    }
-    Ok(pass as f64 / pts.len() as f64)
+    let total = pts.len();
+    let b = Bundle::trace(&launcher, tracer, pts)?;
+    Ok(b.reached().count() as f64 / total as f64)
 }
 
 /// The largest field (degrees, at most 89) whose chief ray and its four
 /// neighbours (the focus-locating pairs) reach the image.
-fn largest_field(p: &Prescription, tracer: &Tracer, aim: Aim) -> f64 {
+fn largest_field(base: &Launcher, tracer: &Tracer) -> f64 {
     let ok = |deg: f64| {
-        let Ok(l) = Launcher::new(p, Field::Angle(deg), aim) else { return false };
-        [(0.0, 0.0), (0.0, DELTA), (0.0, -DELTA), (DELTA, 0.0), (-DELTA, 0.0)]
-            .iter()
-            .all(|&(px, py)| matches!(trace_point(&l, tracer, px, py), Ok(Some(_))))
+        let Ok(l) = base.at_field(Field::Angle(deg)) else { return false };
+        Bundle::trace(&l, tracer, PROBES.to_vec()).is_ok_and(|b| b.vignetted() == 0)
     };
     let mut lo = 0.0;
     let mut hi = 89.0;
@@ -242,14 +258,14 @@ fn largest_field(p: &Prescription, tracer: &Tracer, aim: Aim) -> f64 {
 fn spherical(tracer: &Tracer, first: &FirstOrder, image_z: f64) -> Vec<SphericalZone> {
     let r_ep = first.entrance_pupil.diameter / 2.0;
     let z_ep = first.entrance_pupil.z;
+    let rays: Vec<Ray> =
+        (1..=20).map(|k| Ray { origin: DVec3::new(0.0, k as f64 / 20.0 * r_ep, z_ep), direction: DVec3::Z }).collect();
     let mut zones = vec![SphericalZone { pupil: 0.0, longitudinal: 0.0 }];
-    for k in 1..=20 {
-        let rho = k as f64 / 20.0;
-        let ray = Ray { origin: DVec3::new(0.0, rho * r_ep, z_ep), direction: DVec3::Z };
-        if let Outcome::Reached { ray, .. } = tracer.trace(ray) {
+    for (k, l) in (1..=20).zip(trace_rays(tracer, &rays)) {
+        if let Landing::Reached(ray) = l {
             if ray.direction.y != 0.0 {
                 let z = ray.origin.z - ray.origin.y * ray.direction.z / ray.direction.y;
-                zones.push(SphericalZone { pupil: rho, longitudinal: z - image_z });
+                zones.push(SphericalZone { pupil: k as f64 / 20.0, longitudinal: z - image_z });
             }
         }
     }

@@ -2,10 +2,10 @@
 //! (y error against py) and sagittal (x error against px), relative to the
 //! chief ray, on an image plane.
 
+use super::bundle::{describe_outcome, Bundle, Landing};
 use super::launch::{Aim, Field, Launcher};
 use crate::error::OpticsError;
 use crate::model::Prescription;
-use crate::trace::ray::Outcome;
 use crate::trace::Tracer;
 use serde::Serialize;
 
@@ -91,6 +91,12 @@ pub fn fan_coordinates(n: usize) -> Vec<f64> {
 
 /// Traces the tangential and sagittal fans of `n` points at `field`.
 pub fn ray_fan(p: &Prescription, field: Field, n: usize, aim: Aim, plane: ImagePlane) -> Result<RayFan, OpticsError> {
+    fan_with(p, &Launcher::new(p, field, aim)?, n, plane)
+}
+
+/// [`ray_fan`] with a launcher already made (first-order data computed once
+/// by the caller). The chief ray and both fans are one batch.
+pub fn fan_with(p: &Prescription, launcher: &Launcher, n: usize, plane: ImagePlane) -> Result<RayFan, OpticsError> {
     if n > 1_000_001 {
         return Err(OpticsError::BadInput {
             name: "points",
@@ -98,57 +104,52 @@ pub fn ray_fan(p: &Prescription, field: Field, n: usize, aim: Aim, plane: ImageP
             expected: "at most 1000001 points per fan",
         });
     }
-    let launcher = Launcher::new(p, field, aim)?;
-    let image_z = plane.z(p, &launcher)?;
+    let field = launcher.field();
+    let image_z = plane.z(p, launcher)?;
     let tracer = Tracer::forward_to_film(p, image_z - p.last_vertex_z());
-    let chief = trace_point(&launcher, &tracer, 0.0, 0.0)?
-        .ok_or_else(|| OpticsError::ChiefRayLost { field: field.describe(), why: "vignetted or missed".into() })?;
-    let mut vignetted = 0;
-    let mut aim_failures = 0;
-    let mut point = |px: f64, py: f64| -> Result<Option<[f64; 2]>, OpticsError> {
-        match trace_point(&launcher, &tracer, px, py) {
-            Err(OpticsError::AimingFailed { .. }) => {
-                aim_failures += 1;
-                Ok(None)
-            }
-            other => other,
+    let coords = fan_coordinates(n);
+    let mut points = vec![(0.0, 0.0)];
+    for &c in &coords {
+        points.push((0.0, c));
+        points.push((c, 0.0));
+    }
+    let bundle = Bundle::trace(launcher, &tracer, points)?;
+    let at = |i: usize| bundle.landings[i].reached().map(|r| [r.origin.x, r.origin.y]);
+    let chief = match bundle.landings[0] {
+        Landing::Reached(r) => [r.origin.x, r.origin.y],
+        Landing::Stopped(o) => {
+            return Err(OpticsError::ChiefRayLost { field: field.describe(), why: describe_outcome(&o) })
+        }
+        Landing::AimFailed => {
+            return Err(OpticsError::ChiefRayLost {
+                field: field.describe(),
+                why: "real aiming found no chief ray".into(),
+            })
         }
     };
     let mut tangential = Vec::with_capacity(n);
     let mut sagittal = Vec::with_capacity(n);
-    for c in fan_coordinates(n) {
-        match point(0.0, c)? {
-            Some([x, y]) => tangential.push(TangentialPoint { py: c, x: Some(x), y: Some(y), ey: Some(y - chief[1]) }),
-            None => {
-                vignetted += 1;
-                tangential.push(TangentialPoint { py: c, x: None, y: None, ey: None })
-            }
-        }
-        match point(c, 0.0)? {
-            Some([x, y]) => sagittal.push(SagittalPoint { px: c, x: Some(x), y: Some(y), ex: Some(x - chief[0]) }),
-            None => {
-                vignetted += 1;
-                sagittal.push(SagittalPoint { px: c, x: None, y: None, ex: None })
-            }
-        }
+    for (k, &c) in coords.iter().enumerate() {
+        tangential.push(match at(1 + 2 * k) {
+            Some([x, y]) => TangentialPoint { py: c, x: Some(x), y: Some(y), ey: Some(y - chief[1]) },
+            None => TangentialPoint { py: c, x: None, y: None, ey: None },
+        });
+        sagittal.push(match at(2 + 2 * k) {
+            Some([x, y]) => SagittalPoint { px: c, x: Some(x), y: Some(y), ex: Some(x - chief[0]) },
+            None => SagittalPoint { px: c, x: None, y: None, ex: None },
+        });
     }
     let field_deg = match field {
         Field::Angle(d) => Some(d),
         Field::Height { .. } => None,
     };
-    Ok(RayFan { field_deg, image_z, chief, tangential, sagittal, vignetted, aim_failures })
-}
-
-/// Traces pupil point (px, py); `None` when vignetted.
-pub(crate) fn trace_point(
-    launcher: &Launcher,
-    tracer: &Tracer,
-    px: f64,
-    py: f64,
-) -> Result<Option<[f64; 2]>, OpticsError> {
-    let ray = launcher.ray(px, py)?;
-    Ok(match tracer.trace(ray) {
-        Outcome::Reached { ray, .. } => Some([ray.origin.x, ray.origin.y]),
-        _ => None,
+    Ok(RayFan {
+        field_deg,
+        image_z,
+        chief,
+        tangential,
+        sagittal,
+        vignetted: bundle.vignetted(),
+        aim_failures: bundle.aim_failures(),
     })
 }

@@ -2,10 +2,12 @@
 //! bundle, beside the paraxial focus ([`crate::paraxial::focus`]), and the
 //! on-axis bundle the circle of confusion also measures.
 
+use super::bundle::{trace_rays, Landing};
 use crate::analysis::quadrature::gauss_legendre;
 use crate::error::OpticsError;
 use crate::model::Prescription;
-use crate::paraxial::{film_distance, FirstOrder, ObjectDistance};
+use crate::paraxial::focus::film_distance_with;
+use crate::paraxial::{FirstOrder, ObjectDistance};
 use crate::trace::ray::Ray;
 use crate::trace::Tracer;
 use glam::DVec3;
@@ -13,7 +15,7 @@ use serde::Serialize;
 
 /// Gauss–Legendre nodes over the pupil area for the on-axis bundle. The
 /// transverse error is a smooth odd series in the pupil radius, so 48 nodes
-/// integrate its square to rounding on every shipped lens (see docs/focus.md).
+/// integrate its square to rounding on every shipped lens (docs/analyses.md).
 pub const BUNDLE_NODES: usize = 48;
 
 /// Result of focusing on an on-axis object.
@@ -35,8 +37,9 @@ pub struct Focus {
 /// Focuses on `object`: the paraxial film distance and the real-ray best
 /// focus beside it.
 pub fn focus(p: &Prescription, object: ObjectDistance) -> Result<Focus, OpticsError> {
-    let film = film_distance(p, object)?;
-    let bundle = AxialBundle::trace(p, object, film)?;
+    let first = FirstOrder::of(p)?;
+    let film = film_distance_with(p, &first, object)?;
+    let bundle = AxialBundle::trace(p, &first, object, film)?;
     let (t, rms_best) = bundle.least_rms_shift();
     Ok(Focus {
         film_distance: film,
@@ -66,29 +69,49 @@ pub(crate) struct AxialBundle {
 
 impl AxialBundle {
     /// Traces the bundle from `object` to a film `film` mm behind the last vertex.
-    pub fn trace(p: &Prescription, object: ObjectDistance, film: f64) -> Result<Self, OpticsError> {
-        Self::trace_with(p, object, film, BUNDLE_NODES)
+    pub fn trace(p: &Prescription, first: &FirstOrder, object: ObjectDistance, film: f64) -> Result<Self, OpticsError> {
+        Self::trace_with(p, first, object, film, BUNDLE_NODES)
     }
 
     /// As [`Self::trace`] with `nodes` Gauss–Legendre rings.
-    pub fn trace_with(p: &Prescription, object: ObjectDistance, film: f64, nodes: usize) -> Result<Self, OpticsError> {
-        let first = FirstOrder::of(p)?;
+    pub fn trace_with(
+        p: &Prescription,
+        first: &FirstOrder,
+        object: ObjectDistance,
+        film: f64,
+        nodes: usize,
+    ) -> Result<Self, OpticsError> {
         let tracer = Tracer::forward_to_film(p, film);
         let ep = first.entrance_pupil;
         let r_ep = ep.diameter / 2.0;
         let traced = std::cell::Cell::new(0usize);
-        let ray_at = |rho: f64| -> Option<Ray> {
-            traced.set(traced.get() + 1);
+        let make = |rho: f64| -> Option<Ray> {
             let aim = DVec3::new(0.0, rho * r_ep, ep.z);
-            let r = match object {
-                ObjectDistance::Infinity => Ray::new(aim, DVec3::Z)?,
+            match object {
+                ObjectDistance::Infinity => Ray::new(aim, DVec3::Z),
                 ObjectDistance::Finite(d) => {
                     let o = DVec3::new(0.0, 0.0, -d);
-                    Ray::new(o, aim - o)?
+                    Ray::new(o, aim - o)
                 }
-            };
-            tracer.trace(r).reached().filter(|r| r.direction.z != 0.0)
+            }
         };
+        // the rays at pupil fractions `rhos`, traced as one batch; `None`
+        // where a ray cannot be formed or does not reach the film
+        let trace_at = |rhos: &[f64]| -> Vec<Option<Ray>> {
+            traced.set(traced.get() + rhos.len());
+            let made: Vec<Option<Ray>> = rhos.iter().map(|&r| make(r)).collect();
+            let rays: Vec<Ray> = made.iter().flatten().copied().collect();
+            let mut landed = trace_rays(&tracer, &rays).into_iter();
+            made.iter()
+                .map(|m| {
+                    m.and_then(|_| match landed.next() {
+                        Some(Landing::Reached(r)) if r.direction.z != 0.0 => Some(r),
+                        _ => None,
+                    })
+                })
+                .collect()
+        };
+        let ray_at = |rho: f64| trace_at(&[rho])[0];
         if ray_at(0.0).is_none() {
             return Err(OpticsError::NoRealRays { why: "the axial ray does not reach the film".into() });
         }
@@ -108,24 +131,21 @@ impl AxialBundle {
             lo
         };
         if fill <= 0.0 {
-            return Err(OpticsError::NoRealRays { why: "every off-axis ray of the bundle is blocked".into() });
+            return Err(OpticsError::NoRealRays { why: "every off-axis ray of the on-axis bundle is blocked".into() });
         }
         let (nodes, weights) = gauss_legendre(nodes.max(1), 0.0, fill * fill);
+        let radii: Vec<f64> = nodes.iter().map(|u| u.sqrt()).collect();
         let mut rings = Vec::with_capacity(nodes.len());
-        for (u, w) in nodes.iter().zip(&weights) {
-            let Some(r) = ray_at(u.sqrt()) else {
+        for ((rho, w), r) in radii.iter().zip(&weights).zip(trace_at(&radii)) {
+            let Some(r) = r else {
                 return Err(OpticsError::NoRealRays {
-                    why: format!("the ray at {:.4} of the pupil radius is blocked inside the passing zone", u.sqrt()),
+                    why: format!("the ray at {rho:.4} of the pupil radius is blocked inside the passing zone"),
                 });
             };
             rings.push((*w, r.origin.y, r.direction.y / r.direction.z));
         }
-        let mut geo_radius: f64 = 0.0;
-        for k in 0..=GEO_SAMPLES {
-            if let Some(r) = ray_at(fill * k as f64 / GEO_SAMPLES as f64) {
-                geo_radius = geo_radius.max(r.origin.y.abs());
-            }
-        }
+        let fan: Vec<f64> = (0..=GEO_SAMPLES).map(|k| fill * k as f64 / GEO_SAMPLES as f64).collect();
+        let geo_radius = trace_at(&fan).iter().flatten().fold(0.0f64, |g, r| g.max(r.origin.y.abs()));
         Ok(AxialBundle { rings, fill, geo_radius, rays: traced.get() })
     }
 

@@ -70,38 +70,36 @@ pub struct Launcher {
 const NEWTON_STEPS: usize = 60;
 
 impl Launcher {
-    /// Prepares a launcher. Errors for an angle of 90 degrees or more, or a
-    /// non-positive object distance.
+    /// Prepares a launcher, computing the first-order data. Errors for an
+    /// angle of 90 degrees or more, or a non-positive object distance.
     pub fn new(p: &Prescription, field: Field, aim: Aim) -> Result<Self, OpticsError> {
-        match field {
-            Field::Angle(d) if !(d.is_finite() && d.abs() < 90.0) => {
-                return Err(OpticsError::BadInput {
-                    name: "field angle",
-                    value: d,
-                    expected: "an angle in degrees strictly between -90 and 90",
-                })
-            }
-            Field::Height { object_distance, height } => {
-                ObjectDistance::from_mm(object_distance)?;
-                if !height.is_finite() {
-                    return Err(OpticsError::BadInput {
-                        name: "object height",
-                        value: height,
-                        expected: "a finite height in mm",
-                    });
-                }
-            }
-            _ => {}
-        }
-        let first = FirstOrder::of(p)?;
+        Self::with_first(p, &FirstOrder::of(p)?, field, aim)
+    }
+
+    /// Prepares a launcher from first-order data already computed (a
+    /// command computes them once).
+    pub fn with_first(p: &Prescription, first: &FirstOrder, field: Field, aim: Aim) -> Result<Self, OpticsError> {
+        check_field(field)?;
         Ok(Launcher {
             field,
             aim,
-            first,
+            first: *first,
             to_stop: Tracer::to_stop_unclipped(p),
             stop_radius: p.stop_semi_diameter(),
             z_start: first.entrance_pupil.z.min(0.0) - 1.0,
         })
+    }
+
+    /// The same launcher for another field (the first-order data and the
+    /// to-stop tracer are kept).
+    pub fn at_field(&self, field: Field) -> Result<Self, OpticsError> {
+        check_field(field)?;
+        Ok(Launcher { field, ..self.clone() })
+    }
+
+    /// How rays are aimed.
+    pub fn aim(&self) -> Aim {
+        self.aim
     }
 
     /// The field.
@@ -259,5 +257,29 @@ impl Launcher {
     pub fn paraxial_image_z(&self, p: &Prescription) -> Result<f64, OpticsError> {
         let img = imaging(p, &self.first, self.field.object())?;
         Ok(p.last_vertex_z() + img.image_distance)
+    }
+}
+
+/// Checks a field: an angle strictly inside (-90, 90) degrees, or a finite
+/// object height at a positive object distance.
+fn check_field(field: Field) -> Result<(), OpticsError> {
+    match field {
+        Field::Angle(d) if !(d.is_finite() && d.abs() < 90.0) => Err(OpticsError::BadInput {
+            name: "field angle",
+            value: d,
+            expected: "an angle in degrees strictly between -90 and 90",
+        }),
+        Field::Height { object_distance, height } => {
+            ObjectDistance::from_mm(object_distance)?;
+            if !height.is_finite() {
+                return Err(OpticsError::BadInput {
+                    name: "object height",
+                    value: height,
+                    expected: "a finite height in mm",
+                });
+            }
+            Ok(())
+        }
+        _ => Ok(()),
     }
 }

@@ -7,6 +7,7 @@
 //! rays onto the stop. Vignetted rays are counted and left out of statistics.
 
 pub mod aperture;
+pub mod bundle;
 pub mod coc;
 pub mod convergence;
 pub mod curves;

@@ -1,15 +1,18 @@
 //! Spot diagrams: where a pupil pattern of rays lands on an image plane, its
-//! RMS and geometric radii, and the focus shift of least RMS spot.
+//! RMS and geometric radii (weighted by each point's share of the pupil),
+//! and the focus shift of least RMS spot. Rays go through the batch tracer
+//! in chunks, so a 50-million-ray spot never holds more than a chunk of
+//! rays at once.
 
+use super::bundle::{describe_outcome, launch, Bundle, Landing};
 use super::fan::ImagePlane;
 use super::launch::{Aim, Field, Launcher};
-use super::pattern::{points, Pattern};
+use super::pattern::{for_each, Pattern};
 use super::WAVELENGTH_MM;
 use crate::error::OpticsError;
 use crate::model::Prescription;
 use crate::paraxial::imaging;
-use crate::trace::ray::Outcome;
-use crate::trace::Tracer;
+use crate::trace::{RayBatch, Tracer};
 use serde::Serialize;
 
 /// Most rays a spot diagram traces (a bound on memory, not on accuracy).
@@ -53,6 +56,9 @@ pub struct SpotDiagram {
     /// Every ray that reached the plane: x, y, dx/dz, dy/dz.
     #[serde(skip)]
     pub hits: Vec<[f64; 4]>,
+    /// Each hit's share of the pupil (the pattern's weight).
+    #[serde(skip)]
+    pub weights: Vec<f64>,
 }
 
 impl SpotDiagram {
@@ -63,27 +69,30 @@ impl SpotDiagram {
         (pp + 2.0 * dz * ps + dz * dz * ss).max(0.0).sqrt()
     }
 
-    /// Through-focus RMS radius at each shift.
-    pub fn through_focus(&self, shifts: &[f64]) -> Vec<(f64, f64)> {
-        shifts.iter().map(|&s| (s, self.rms_at_shift(s))).collect()
-    }
-
-    /// Mean of |p'|^2, p'.s' and |s'|^2 with p', s' the positions and slopes
-    /// about their means.
+    /// Weighted mean of |p'|^2, p'.s' and |s'|^2 with p', s' the positions
+    /// and slopes about their means.
     fn moments(&self) -> (f64, f64, f64) {
-        let n = self.hits.len().max(1) as f64;
-        let mean = |k: usize| self.hits.iter().map(|h| h[k]).sum::<f64>() / n;
+        let n = self.total_weight();
+        let mean = |k: usize| self.hits.iter().zip(&self.weights).map(|(h, w)| w * h[k]).sum::<f64>() / n;
         let (mx, my, msx, msy) = (mean(0), mean(1), mean(2), mean(3));
         let (mut pp, mut ps, mut ss) = (0.0, 0.0, 0.0);
-        for h in &self.hits {
+        for (h, w) in self.hits.iter().zip(&self.weights) {
             let (px, py, sx, sy) = (h[0] - mx, h[1] - my, h[2] - msx, h[3] - msy);
-            pp += px * px + py * py;
-            ps += px * sx + py * sy;
-            ss += sx * sx + sy * sy;
+            pp += w * (px * px + py * py);
+            ps += w * (px * sx + py * sy);
+            ss += w * (sx * sx + sy * sy);
         }
         (pp / n, ps / n, ss / n)
     }
+
+    fn total_weight(&self) -> f64 {
+        self.weights.iter().sum::<f64>().max(f64::MIN_POSITIVE)
+    }
 }
+
+/// Rays launched and traced per batch: large enough for the batch tracer's
+/// speed, small enough that the batch stays in the caches.
+const BATCH: usize = 16_384;
 
 /// Traces `pattern` (size `n`) at `field` to `plane` and measures the spot.
 /// Errors when the chief ray is lost or every ray is vignetted.
@@ -95,55 +104,90 @@ pub fn spot_diagram(
     aim: Aim,
     plane: ImagePlane,
 ) -> Result<SpotDiagram, OpticsError> {
-    let count = match pattern {
-        Pattern::Square => (n as f64) * (n as f64),
-        Pattern::Hexapolar => 1.0 + 3.0 * (n as f64) * (n as f64 + 1.0),
-        Pattern::Random => n as f64,
-    };
-    if count > MAX_RAYS as f64 {
+    let launcher = Launcher::new(p, field, aim)?;
+    spot_with(p, &launcher, pattern, n, plane)
+}
+
+/// [`spot_diagram`] with a launcher already made (first-order data computed
+/// once by the caller).
+pub fn spot_with(
+    p: &Prescription,
+    launcher: &Launcher,
+    pattern: Pattern,
+    n: usize,
+    plane: ImagePlane,
+) -> Result<SpotDiagram, OpticsError> {
+    let field = launcher.field();
+    if pattern.count(n) > MAX_RAYS as f64 {
         return Err(OpticsError::BadInput {
             name: "pattern size n",
             value: n as f64,
-            expected: "a pattern of at most 50 million rays (square n <= 7071, hexapolar n <= 4081)",
+            expected: "a pattern of at most 50 million rays (gauss n <= 3535, square n <= 7071, hexapolar n <= 4081)",
         });
     }
-    let launcher = Launcher::new(p, field, aim)?;
-    let image_z = plane.z(p, &launcher)?;
+    if pattern.count(n) < 1.0 {
+        return Err(OpticsError::BadInput { name: "pattern size n", value: n as f64, expected: "at least 1" });
+    }
+    let image_z = plane.z(p, launcher)?;
     let tracer = Tracer::forward_to_film(p, image_z - p.last_vertex_z());
-    let chief = match tracer.trace(launcher.ray(0.0, 0.0)?) {
-        Outcome::Reached { ray, .. } => [ray.origin.x, ray.origin.y],
-        o => return Err(OpticsError::ChiefRayLost { field: field.describe(), why: format!("{o:?}") }),
+    let chief = match Bundle::trace(launcher, &tracer, vec![(0.0, 0.0)])?.landings[0] {
+        Landing::Reached(ray) => [ray.origin.x, ray.origin.y],
+        Landing::Stopped(o) => {
+            return Err(OpticsError::ChiefRayLost { field: field.describe(), why: describe_outcome(&o) })
+        }
+        Landing::AimFailed => {
+            return Err(OpticsError::ChiefRayLost {
+                field: field.describe(),
+                why: "real aiming found no chief ray".into(),
+            })
+        }
     };
     let mut hits = Vec::new();
-    let mut vignetted = 0;
-    let mut aim_failures = 0;
-    for (px, py) in points(pattern, n) {
-        let ray = match launcher.ray(px, py) {
-            Ok(r) => r,
-            Err(OpticsError::AimingFailed { .. }) => {
-                aim_failures += 1;
-                vignetted += 1;
-                continue;
-            }
-            Err(e) => return Err(e),
-        };
-        match tracer.trace(ray) {
-            Outcome::Reached { ray, .. } if ray.direction.z != 0.0 => {
-                let d = ray.direction;
-                hits.push([ray.origin.x, ray.origin.y, d.x / d.z, d.y / d.z]);
-            }
-            _ => vignetted += 1,
+    let mut weights = Vec::new();
+    let (mut vignetted, mut aim_failures) = (0, 0);
+    let mut chunk: Vec<(f64, f64, f64)> = Vec::with_capacity(BATCH);
+    let mut batch = RayBatch::with_capacity(BATCH);
+    let mut error = None;
+    let mut flush = |chunk: &mut Vec<(f64, f64, f64)>| {
+        if error.is_some() {
+            return;
         }
+        match launch(launcher, chunk.iter().map(|c| (c.0, c.1)), &mut batch) {
+            Ok(failed) => aim_failures += failed,
+            Err(e) => error = Some(e),
+        }
+        tracer.trace_soa(&mut batch);
+        for (i, c) in chunk.iter().enumerate() {
+            let dz = batch.dz[i];
+            if batch.status[i] == 0 && dz != 0.0 {
+                hits.push([batch.x[i], batch.y[i], batch.dx[i] / dz, batch.dy[i] / dz]);
+                weights.push(c.2);
+            } else {
+                vignetted += 1;
+            }
+        }
+        chunk.clear();
+    };
+    for_each(pattern, n, |x, y, w| {
+        chunk.push((x, y, w));
+        if chunk.len() == BATCH {
+            flush(&mut chunk);
+        }
+    });
+    flush(&mut chunk);
+    if let Some(e) = error {
+        return Err(e);
     }
     if hits.is_empty() {
         return Err(OpticsError::NoRealRays {
-            why: format!("all {vignetted} rays are vignetted at {}", field.describe()),
+            why: format!("all {vignetted} rays of the pupil pattern are vignetted at {}", field.describe()),
         });
     }
-    let m = hits.len() as f64;
-    let centroid = [hits.iter().map(|h| h[0]).sum::<f64>() / m, hits.iter().map(|h| h[1]).sum::<f64>() / m];
+    let m: f64 = weights.iter().sum();
+    let wsum = |k: usize| hits.iter().zip(&weights).map(|(h, w)| w * h[k]).sum::<f64>();
+    let centroid = [wsum(0) / m, wsum(1) / m];
     let dist = |h: &[f64; 4], c: [f64; 2]| ((h[0] - c[0]).powi(2) + (h[1] - c[1]).powi(2)).sqrt();
-    let rms = |c: [f64; 2]| (hits.iter().map(|h| dist(h, c).powi(2)).sum::<f64>() / m).sqrt();
+    let rms = |c: [f64; 2]| (hits.iter().zip(&weights).map(|(h, w)| w * dist(h, c).powi(2)).sum::<f64>() / m).sqrt();
     let geo = |c: [f64; 2]| hits.iter().map(|h| dist(h, c)).fold(0.0, f64::max);
     let first = launcher.first_order();
     let wfn = imaging(p, first, field.object())?.working_f_number;
@@ -166,6 +210,7 @@ pub fn spot_diagram(
         best_focus_shift: 0.0,
         rms_radius_best_focus: 0.0,
         hits,
+        weights,
     };
     let (_, ps, ss) = spot.moments();
     spot.best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };

@@ -64,6 +64,26 @@ pub struct Launcher {
     to_stop: Tracer,
     stop_radius: f64,
     z_start: f64,
+    /// For an angle field: the direction as computed, its unit vector, and
+    /// the offset from the entrance-pupil point back to the start plane
+    /// (made once, not per ray).
+    beam: Option<Beam>,
+}
+
+/// A collimated beam's direction, kept with its launcher.
+#[derive(Debug, Clone, Copy)]
+struct Beam {
+    unit: Option<DVec3>,
+    back: DVec3,
+}
+
+impl Beam {
+    fn of(field: Field, z_ep: f64, z_start: f64) -> Option<Beam> {
+        let Field::Angle(deg) = field else { return None };
+        let t = deg.to_radians();
+        let d = DVec3::new(0.0, t.sin(), t.cos());
+        Some(Beam { unit: d.try_normalize(), back: d * ((z_ep - z_start) / d.z) })
+    }
 }
 
 /// Newton iterations allowed per aimed ray.
@@ -80,13 +100,15 @@ impl Launcher {
     /// command computes them once).
     pub fn with_first(p: &Prescription, first: &FirstOrder, field: Field, aim: Aim) -> Result<Self, OpticsError> {
         check_field(field)?;
+        let z_start = first.entrance_pupil.z.min(0.0) - 1.0;
         Ok(Launcher {
             field,
             aim,
             first: *first,
             to_stop: Tracer::to_stop_unclipped(p),
             stop_radius: p.stop_semi_diameter(),
-            z_start: first.entrance_pupil.z.min(0.0) - 1.0,
+            z_start,
+            beam: Beam::of(field, first.entrance_pupil.z, z_start),
         })
     }
 
@@ -94,7 +116,7 @@ impl Launcher {
     /// to-stop tracer are kept).
     pub fn at_field(&self, field: Field) -> Result<Self, OpticsError> {
         check_field(field)?;
-        Ok(Launcher { field, ..self.clone() })
+        Ok(Launcher { field, beam: Beam::of(field, self.first.entrance_pupil.z, self.z_start), ..self.clone() })
     }
 
     /// How rays are aimed.
@@ -123,9 +145,13 @@ impl Launcher {
         let target = DVec3::new(e.x, e.y, z_ep);
         match field {
             Field::Angle(deg) => {
-                let t = deg.to_radians();
-                let d = DVec3::new(0.0, t.sin(), t.cos());
-                Ray::new(target - d * ((z_ep - self.z_start) / d.z), d)
+                // the launcher's own field: the beam made once (same bits)
+                let beam = match self.beam {
+                    Some(b) if field == self.field => b,
+                    _ => Beam::of(Field::Angle(deg), z_ep, self.z_start)?,
+                };
+                let origin = target - beam.back;
+                origin.is_finite().then_some(Ray { origin, direction: beam.unit? })
             }
             Field::Height { object_distance, height } => {
                 let o = DVec3::new(0.0, height, -object_distance);

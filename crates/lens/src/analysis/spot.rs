@@ -13,6 +13,7 @@ use crate::error::OpticsError;
 use crate::model::Prescription;
 use crate::paraxial::imaging;
 use crate::trace::{RayBatch, Tracer};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// Most rays a spot diagram traces (a bound on memory, not on accuracy).
@@ -94,6 +95,36 @@ impl SpotDiagram {
 /// speed, small enough that the batch stays in the caches.
 const BATCH: usize = 16_384;
 
+/// Chunks traced together, one per thread at a time.
+const GROUP: usize = 8 * BATCH;
+
+/// What one chunk of pupil points gave.
+struct Traced {
+    hits: Vec<[f64; 4]>,
+    weights: Vec<f64>,
+    vignetted: usize,
+    aim_failures: usize,
+}
+
+/// Launches and traces one chunk of weighted pupil points.
+fn trace_chunk(launcher: &Launcher, tracer: &Tracer, chunk: &[(f64, f64, f64)]) -> Result<Traced, OpticsError> {
+    let mut batch = RayBatch::with_capacity(chunk.len());
+    let aim_failures = launch(launcher, chunk.iter().map(|c| (c.0, c.1)), &mut batch)?;
+    tracer.trace_soa(&mut batch);
+    let mut t = Traced { hits: Vec::with_capacity(chunk.len()), weights: Vec::new(), vignetted: 0, aim_failures };
+    t.weights.reserve(chunk.len());
+    for (i, c) in chunk.iter().enumerate() {
+        let dz = batch.dz[i];
+        if batch.status[i] == 0 && dz != 0.0 {
+            t.hits.push([batch.x[i], batch.y[i], batch.dx[i] / dz, batch.dy[i] / dz]);
+            t.weights.push(c.2);
+        } else {
+            t.vignetted += 1;
+        }
+    }
+    Ok(t)
+}
+
 /// Traces `pattern` (size `n`) at `field` to `plane` and measures the spot.
 /// Errors when the chief ray is lost or every ray is vignetted.
 pub fn spot_diagram(
@@ -145,50 +176,38 @@ pub fn spot_with(
     let mut hits = Vec::new();
     let mut weights = Vec::new();
     let (mut vignetted, mut aim_failures) = (0, 0);
-    let mut chunk: Vec<(f64, f64, f64)> = Vec::with_capacity(BATCH);
-    let mut batch = RayBatch::with_capacity(BATCH);
-    let mut error = None;
-    let mut flush = |chunk: &mut Vec<(f64, f64, f64)>| {
-        if error.is_some() {
-            return;
+    // points gathered a group at a time, the group's chunks launched and
+    // traced on all cores, their hits appended in pattern order (so the
+    // result does not depend on the number of threads)
+    let mut group: Vec<(f64, f64, f64)> = Vec::with_capacity(GROUP);
+    let mut flush = |group: &mut Vec<(f64, f64, f64)>| -> Result<(), OpticsError> {
+        let parts: Vec<Result<Traced, OpticsError>> =
+            group.par_chunks(BATCH).map(|chunk| trace_chunk(launcher, &tracer, chunk)).collect();
+        for part in parts {
+            let t = part?;
+            hits.extend(t.hits);
+            weights.extend(t.weights);
+            vignetted += t.vignetted;
+            aim_failures += t.aim_failures;
         }
-        match launch(launcher, chunk.iter().map(|c| (c.0, c.1)), &mut batch) {
-            Ok(failed) => aim_failures += failed,
-            Err(e) => error = Some(e),
-        }
-        tracer.trace_soa(&mut batch);
-        for (i, c) in chunk.iter().enumerate() {
-            let dz = batch.dz[i];
-            if batch.status[i] == 0 && dz != 0.0 {
-                hits.push([batch.x[i], batch.y[i], batch.dx[i] / dz, batch.dy[i] / dz]);
-                weights.push(c.2);
-            } else {
-                vignetted += 1;
-            }
-        }
-        chunk.clear();
+        group.clear();
+        Ok(())
     };
+    let mut error = Ok(());
     for_each(pattern, n, |x, y, w| {
-        chunk.push((x, y, w));
-        if chunk.len() == BATCH {
-            flush(&mut chunk);
+        group.push((x, y, w));
+        if group.len() == GROUP && error.is_ok() {
+            error = flush(&mut group);
         }
     });
-    flush(&mut chunk);
-    if let Some(e) = error {
-        return Err(e);
-    }
+    error?;
+    flush(&mut group)?;
     if hits.is_empty() {
         return Err(OpticsError::NoRealRays {
             why: format!("all {vignetted} rays of the pupil pattern are vignetted at {}", field.describe()),
         });
     }
-    let m: f64 = weights.iter().sum();
-    let wsum = |k: usize| hits.iter().zip(&weights).map(|(h, w)| w * h[k]).sum::<f64>();
-    let centroid = [wsum(0) / m, wsum(1) / m];
-    let dist = |h: &[f64; 4], c: [f64; 2]| ((h[0] - c[0]).powi(2) + (h[1] - c[1]).powi(2)).sqrt();
-    let rms = |c: [f64; 2]| (hits.iter().zip(&weights).map(|(h, w)| w * dist(h, c).powi(2)).sum::<f64>() / m).sqrt();
-    let geo = |c: [f64; 2]| hits.iter().map(|h| dist(h, c)).fold(0.0, f64::max);
+    let st = Stats::of(&hits, &weights, chief);
     let first = launcher.first_order();
     let wfn = imaging(p, first, field.object())?.working_f_number;
     let mut spot = SpotDiagram {
@@ -200,11 +219,11 @@ pub fn spot_with(
         rays: hits.len(),
         vignetted,
         aim_failures,
-        centroid,
-        rms_radius: rms(centroid),
-        rms_radius_chief: rms(chief),
-        geo_radius: geo(centroid),
-        geo_radius_chief: geo(chief),
+        centroid: st.centroid,
+        rms_radius: st.rms_radius,
+        rms_radius_chief: st.rms_radius_chief,
+        geo_radius: st.geo_radius,
+        geo_radius_chief: st.geo_radius_chief,
         chief,
         airy_radius: 1.22 * WAVELENGTH_MM * wfn,
         best_focus_shift: 0.0,
@@ -212,8 +231,59 @@ pub fn spot_with(
         hits,
         weights,
     };
-    let (_, ps, ss) = spot.moments();
+    let (pp, ps, ss) = st.moments;
     spot.best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };
-    spot.rms_radius_best_focus = spot.rms_at_shift(spot.best_focus_shift);
+    let dz = spot.best_focus_shift;
+    spot.rms_radius_best_focus = (pp + 2.0 * dz * ps + dz * dz * ss).max(0.0).sqrt();
     Ok(spot)
+}
+
+/// The spot's statistics in two passes over the hits (sums, then
+/// deviations), each accumulator summed in hit order as its own formula
+/// says, so the result is that of a pass per statistic.
+struct Stats {
+    centroid: [f64; 2],
+    rms_radius: f64,
+    rms_radius_chief: f64,
+    geo_radius: f64,
+    geo_radius_chief: f64,
+    /// Weighted mean of |p'|^2, p'.s' and |s'|^2 about the means.
+    moments: (f64, f64, f64),
+}
+
+impl Stats {
+    fn of(hits: &[[f64; 4]], weights: &[f64], chief: [f64; 2]) -> Stats {
+        let m: f64 = weights.iter().sum();
+        let mut s = [-0.0f64; 4];
+        for (h, w) in hits.iter().zip(weights) {
+            for k in 0..4 {
+                s[k] += w * h[k];
+            }
+        }
+        let centroid = [s[0] / m, s[1] / m];
+        let n = m.max(f64::MIN_POSITIVE);
+        let (mx, my, msx, msy) = (s[0] / n, s[1] / n, s[2] / n, s[3] / n);
+        let dist = |h: &[f64; 4], c: [f64; 2]| ((h[0] - c[0]).powi(2) + (h[1] - c[1]).powi(2)).sqrt();
+        let (mut r_c, mut r_chief, mut g_c, mut g_chief) = (-0.0f64, -0.0f64, 0.0f64, 0.0f64);
+        let (mut pp, mut ps, mut ss) = (0.0, 0.0, 0.0);
+        for (h, w) in hits.iter().zip(weights) {
+            let (dc, dh) = (dist(h, centroid), dist(h, chief));
+            r_c += w * dc.powi(2);
+            r_chief += w * dh.powi(2);
+            g_c = g_c.max(dc);
+            g_chief = g_chief.max(dh);
+            let (px, py, sx, sy) = (h[0] - mx, h[1] - my, h[2] - msx, h[3] - msy);
+            pp += w * (px * px + py * py);
+            ps += w * (px * sx + py * sy);
+            ss += w * (sx * sx + sy * sy);
+        }
+        Stats {
+            centroid,
+            rms_radius: (r_c / m).sqrt(),
+            rms_radius_chief: (r_chief / m).sqrt(),
+            geo_radius: g_c,
+            geo_radius_chief: g_chief,
+            moments: (pp / n, ps / n, ss / n),
+        }
+    }
 }

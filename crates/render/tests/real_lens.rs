@@ -110,3 +110,83 @@ fn a_triangular_stop_makes_triangular_bokeh() {
     let ratio = triangle / round;
     assert!((ratio - 0.5f64.sqrt()).abs() < 0.05, "{triangle} / {round} = {ratio}");
 }
+
+/// The exit-pupil bounds contain every ray that passes: the camera's mean
+/// weight at film points across the frame (relative to the centre) equals
+/// a brute-force integral of cos^4 / d^2 over a dense grid of the whole rear
+/// vertex plane, traced ray by ray; for the round stop (star-shaped and
+/// cell bounds) and for a shaped stop (the stop's shape mapped back).
+#[test]
+fn pupil_bounds_lose_no_light() {
+    for (fno, shape) in [
+        (2.0, r#"{"shape": "circle"}"#),
+        (8.0, r#"{"shape": "circle"}"#),
+        (2.8, r#"{"shape": "polygon", "blades": 6}"#),
+    ] {
+        let cam = format!(
+            r#"{{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "../double-gauss-50mm.json",
+                 "f_number": {fno}, "focus_distance": 0.85, "sensor_mm": [36.0, 24.0], "aperture_shape": {shape}}}"#
+        );
+        let s = lamp_scene(&cam, DVec3::new(0.0, 0.0, 5.0), 0.01, 8);
+        let render::camera::Camera::Real(real) = &s.camera else { panic!() };
+        let p = real.prescription();
+        let (z_film, z_rear) = (p.total_track(), p.last_vertex_z());
+        let tracer = lens::Tracer::reverse(p);
+        let stop = p.stop_index();
+        let sd = p.stop_semi_diameter();
+        let inside_shape = |at: Option<DVec3>| match at {
+            None => false,
+            Some(q) if shape.contains("polygon") => {
+                let (x, y) = (q.x / sd, q.y / sd);
+                (0..6).all(|k| {
+                    let mid = std::f64::consts::TAU * (k as f64 + 0.5) / 6.0;
+                    x * mid.cos() + y * mid.sin() <= (std::f64::consts::PI / 6.0).cos()
+                })
+            }
+            Some(_) => true,
+        };
+        let brute = |fx: f64, fy: f64| {
+            let (n, half) = (600, 30.0);
+            let h = 2.0 * half / n as f64;
+            let film = DVec3::new(fx, fy, z_film);
+            let mut sum = 0.0;
+            for j in 0..n {
+                for i in 0..n {
+                    let t = DVec3::new(-half + h * (i as f64 + 0.5), -half + h * (j as f64 + 0.5), z_rear);
+                    let ray = lens::Ray::new(film, t - film).unwrap();
+                    let (out, at) = tracer.trace_at_surface(ray, stop);
+                    if out.reached().is_some() && inside_shape(at) {
+                        sum += ray.direction.z.powi(4) * h * h;
+                    }
+                }
+            }
+            sum
+        };
+        let camera_mean = |u: f64, v: f64| {
+            let n = 200_000;
+            let g = 0.618_033_988_749_894_9;
+            let samples: Vec<render::camera::CameraSample> = (0..n)
+                .map(|k| render::camera::CameraSample {
+                    film: (u, v),
+                    aperture: ((k as f64 + 0.5) / n as f64, (k as f64 * g).fract()),
+                })
+                .collect();
+            let mut out = Vec::new();
+            s.camera.rays(&samples, &mut out);
+            out.iter().flatten().map(|(_, w)| w).sum::<f64>() / n as f64
+        };
+        let (b0, c0) = (brute(0.0, 0.0), camera_mean(0.5, 0.5));
+        let d = z_film - z_rear;
+        let centre = real.centre_weight() * d * d;
+        assert!((centre - b0).abs() < 0.005 * b0, "f/{fno} {shape}: centre {centre:.6} mm^2, brute force {b0:.6}");
+        for (u, v) in [(0.8, 0.5), (0.5, 0.05), (0.95, 0.9), (0.2, 0.3)] {
+            let (fx, fy) = (-(u - 0.5) * 36.0, -(0.5 - v) * 24.0);
+            let want = brute(fx, fy) / b0;
+            let got = camera_mean(u, v) / c0;
+            assert!(
+                (got - want).abs() < 0.01 * want.max(0.05),
+                "f/{fno} {shape} at ({u}, {v}): camera {got:.4}, brute force {want:.4}"
+            );
+        }
+    }
+}

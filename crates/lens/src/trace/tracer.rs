@@ -77,13 +77,24 @@ impl Tracer {
     /// the global frame; the outcome `Reached` holds it at the first surface
     /// with its object-space direction.
     pub fn reverse(p: &Prescription) -> Self {
+        Self::reverse_range(p, 0..p.surfaces().len())
+    }
+
+    /// From image space back through surfaces `range.end - 1` down to
+    /// `range.start` only (0-based; clamped to the prescription). Rays start
+    /// and end in the global frame, so a trace can stop at a surface and go
+    /// on from there: `reverse_range(p, k..n)` then `reverse_range(p, 0..k)`
+    /// is the whole reverse trace (equal to [`Self::reverse`] to within
+    /// rounding of the frame change at surface k).
+    pub fn reverse_range(p: &Prescription, range: std::ops::Range<usize>) -> Self {
         let z = p.vertex_z();
         let s = p.surfaces();
-        let n = s.len();
-        let steps = (0..n)
+        let hi = range.end.min(s.len());
+        let lo = range.start.min(hi);
+        let steps = (lo..hi)
             .rev()
             .map(|i| {
-                let shift = if i == n - 1 { z[i] } else { -s[i].thickness };
+                let shift = if i == hi - 1 { z[i] } else { -s[i].thickness };
                 surface_step(&s[i], i, s[i].ior, p.index_before(i), shift, z[i])
             })
             .collect();

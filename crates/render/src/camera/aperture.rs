@@ -144,15 +144,34 @@ impl Aperture {
         }
     }
 
-    /// Area of the shape at unit scale.
-    pub fn area(&self) -> f64 {
+    /// A point uniform over the region [`Self::proposal_area`] measures: the
+    /// shape for a circle or polygon, the mask's square [-1, 1]^2 for a
+    /// mask (whose transmission then weights the sample).
+    pub fn sample_uniform(&self, u: (f64, f64)) -> (f64, f64) {
+        match *self {
+            Aperture::Mask(_) => (2.0 * u.0 - 1.0, 2.0 * u.1 - 1.0),
+            _ => self.sample(u),
+        }
+    }
+
+    /// Area of the region [`Self::sample_uniform`] draws from, at unit scale.
+    pub fn proposal_area(&self) -> f64 {
         match *self {
             Aperture::Circle => std::f64::consts::PI,
             Aperture::Polygon { blades, .. } => {
                 let n = blades as f64;
                 0.5 * n * (std::f64::consts::TAU / n).sin()
             }
-            Aperture::Mask(ref m) => 4.0 * m.cdf.last().copied().unwrap_or(0.0) / m.values.len() as f64,
+            Aperture::Mask(_) => 4.0,
+        }
+    }
+
+    /// Radius of the largest circle about the centre inside that region
+    /// (the polygon's apothem; 1 for the circle and the mask's square).
+    pub fn inradius(&self) -> f64 {
+        match *self {
+            Aperture::Polygon { blades, .. } => (std::f64::consts::PI / blades as f64).cos(),
+            _ => 1.0,
         }
     }
 }

@@ -3,11 +3,48 @@
 //! scene ray and a weight (0 when the ray is blocked inside the lens).
 
 pub mod aperture;
+pub mod pupil;
 pub mod real_lens;
 
 use crate::geometry::Ray;
 use aperture::Aperture;
 use glam::DVec3;
+
+/// Why a camera could not be built. The lens crate's error is kept as the
+/// source.
+#[derive(Debug, thiserror::Error)]
+pub enum CameraError {
+    /// The look-at point equals the position.
+    #[error("camera look_at equals position: move one of them")]
+    LookAtPosition,
+    /// The up direction is parallel to the viewing direction.
+    #[error("camera up is parallel to the viewing direction: change up")]
+    UpParallel,
+    /// A sensor size that is not two positive lengths.
+    #[error("sensor_mm = [{width}, {height}]: give two positive sizes in mm")]
+    Sensor {
+        /// Width, mm.
+        width: f64,
+        /// Height, mm.
+        height: f64,
+    },
+    /// The lens cannot be focused or set up as asked.
+    #[error(transparent)]
+    Optics(#[from] lens::OpticsError),
+    /// No ray from the film centre passes the lens.
+    #[error("no ray from the film centre passes the lens: check the stop and clear apertures")]
+    NoLight,
+}
+
+/// One camera sample: a film position (u, v in [0, 1], v down) and two
+/// aperture uniforms in [0, 1).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraSample {
+    /// Film position (u, v).
+    pub film: (f64, f64),
+    /// Aperture uniforms.
+    pub aperture: (f64, f64),
+}
 
 /// An orthonormal camera frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -25,10 +62,9 @@ pub struct Frame {
 impl Frame {
     /// From a position, a look-at point and an up hint. Errors when the
     /// directions are degenerate.
-    pub fn look_at(position: DVec3, target: DVec3, up: DVec3) -> Result<Self, String> {
-        let forward = (target - position).try_normalize().ok_or("camera look_at equals position: move one of them")?;
-        let right =
-            forward.cross(up).try_normalize().ok_or("camera up is parallel to the viewing direction: change up")?;
+    pub fn look_at(position: DVec3, target: DVec3, up: DVec3) -> Result<Self, CameraError> {
+        let forward = (target - position).try_normalize().ok_or(CameraError::LookAtPosition)?;
+        let right = forward.cross(up).try_normalize().ok_or(CameraError::UpParallel)?;
         Ok(Frame { origin: position, forward, right, up: right.cross(forward) })
     }
 }
@@ -90,6 +126,19 @@ impl Camera {
                 Some((Ray { origin: o, dir }, 1.0))
             }
             Camera::Real(c) => c.ray(u, v, a),
+        }
+    }
+
+    /// The camera rays of a batch of samples, with their weights (`None`
+    /// where the lens blocks the ray): a real lens traces them all as one
+    /// batch through the lens crate's batch tracer.
+    pub fn rays(&self, samples: &[CameraSample], out: &mut Vec<Option<(Ray, f64)>>) {
+        match self {
+            Camera::Real(c) => c.rays(samples, out),
+            _ => {
+                out.clear();
+                out.extend(samples.iter().map(|s| self.ray(s.film.0, s.film.1, s.aperture)));
+            }
         }
     }
 }

@@ -1,83 +1,131 @@
 //! The real-lens camera: each camera ray starts on the film, is aimed at a
-//! point inside the exit-pupil bounds for its film radius, and is traced
-//! surface by surface through the prescription into the scene (the lens
-//! crate's film -> object tracer). Vignetting, cos^4 fall-off, distortion,
-//! aberrations and bokeh shapes all come out of the trace.
+//! point inside the exit-pupil bounds for its film position, and is traced
+//! surface by surface through the prescription into the scene by the lens
+//! crate's batch tracer (a whole row of samples at once). Vignetting,
+//! cos^4 fall-off, distortion, aberrations and bokeh shapes all come out of
+//! the trace.
+//!
+//! The estimator: a film point's irradiance is the integral over the rear
+//! vertex plane of L cos^4(theta) / d^2 (d the film-to-plane distance) over
+//! the points whose rays pass the lens. Targets are drawn uniformly over a
+//! set of cells that contains every passing point ([`super::pupil`]), so
+//! the weight of a sample is the cells' area times cos^4 / d^2 (times a
+//! mask's transmission), and rays that do not pass have weight 0.
 
 use super::aperture::Aperture;
-use super::Frame;
+use super::pupil::{PupilBounds, PupilTables};
+use super::{CameraError, CameraSample, Frame};
 use crate::geometry::Ray;
-use lens::{DVec3, Prescription, Tracer};
-
-/// Radial bins of the exit-pupil bounds.
-const BINS: usize = 32;
-/// Coarse grid over the rear element when bounding the exit pupil.
-const GRID: usize = 32;
-/// Fine grid over the pupil's bounding box.
-const FINE: usize = 64;
-/// Film radii probed per bin.
-const RADII: usize = 3;
+use lens::{DVec3, Prescription, RayBatch, Tracer};
 
 /// A real lens in a scene.
 #[derive(Debug, Clone)]
 pub struct RealLensCamera {
     frame: Frame,
     prescription: Prescription,
-    tracer: Tracer,
+    /// Film to object space (round stop), or film to the stop and the stop
+    /// to object space (shaped stop: the shape is tested at the stop).
+    trace: LensTrace,
     /// z of the film, mm from the first vertex.
     z_film: f64,
     /// z of the rear vertex plane, where rays are aimed.
     z_rear: f64,
     sensor: [f64; 2],
-    bin_width: f64,
-    /// Per radial bin: the side of its cells (mm) and the rear-plane cells
-    /// (lower-left corners, for a film point on +x) through which rays can
-    /// pass.
-    cells: Vec<(f64, Vec<(f64, f64)>)>,
+    tables: PupilTables,
     aperture: Aperture,
-    stop: usize,
     stop_sd: f64,
+    /// Mean unnormalised weight at the film centre: weights are divided by
+    /// it, so the centre of the image has exposure 1.
     norm: f64,
 }
+
+/// How camera rays go through the lens.
+#[derive(Debug, Clone)]
+pub(crate) enum LensTrace {
+    /// One trace, film to object space.
+    Whole(Tracer),
+    /// Film to the stop (inclusive), then on to object space (`None` when
+    /// the stop is the first surface).
+    AtStop(Tracer, Option<Tracer>),
+}
+
+impl LensTrace {
+    fn new(p: &Prescription, aperture: &Aperture) -> Self {
+        if *aperture == Aperture::Circle {
+            return LensTrace::Whole(Tracer::reverse(p));
+        }
+        let (stop, n) = (p.stop_index(), p.surfaces().len());
+        let rest = (stop > 0).then(|| Tracer::reverse_range(p, 0..stop));
+        LensTrace::AtStop(Tracer::reverse_range(p, stop..n), rest)
+    }
+
+    /// Traces `batch` (film rays, global frame, mm) in place; afterwards a
+    /// ray with status 0 has passed. For a shaped stop, `shape(x, y)` (the
+    /// stop hit, mm) gives the transmission there, written to `t`; rays it
+    /// does not transmit are given a non-zero status.
+    pub(crate) fn trace(&self, batch: &mut RayBatch, t: &mut Vec<f64>, shape: impl Fn(f64, f64) -> f64) {
+        t.clear();
+        t.resize(batch.len(), 1.0);
+        match self {
+            LensTrace::Whole(tr) => tr.trace_soa(batch),
+            LensTrace::AtStop(to_stop, rest) => {
+                to_stop.trace_soa(batch);
+                for (i, ti) in t.iter_mut().enumerate() {
+                    if batch.status[i] == 0 {
+                        *ti = shape(batch.x[i], batch.y[i]);
+                        if *ti <= 0.0 {
+                            batch.status[i] = u64::MAX;
+                        }
+                    }
+                }
+                if let Some(rest) = rest {
+                    rest.trace_soa(batch);
+                }
+            }
+        }
+    }
+}
+
+/// Camera samples traced together per batch.
+const BATCH: usize = 4096;
 
 impl RealLensCamera {
     /// Builds the camera: focuses the lens so the plane `focus_m` metres from
     /// the film is sharp (exact paraxial focus, not a thick-lens guess), then
-    /// bounds the exit pupil for each film radius.
+    /// bounds the exit pupil for each film position.
     pub fn new(
         frame: Frame,
         p: &Prescription,
         focus_m: f64,
         sensor: [f64; 2],
         aperture: Aperture,
-    ) -> Result<Self, String> {
+    ) -> Result<Self, CameraError> {
         if !(sensor[0] > 0.0 && sensor[1] > 0.0 && sensor[0].is_finite() && sensor[1].is_finite()) {
-            return Err("sensor_mm must be two positive sizes in mm".into());
+            return Err(CameraError::Sensor { width: sensor[0], height: sensor[1] });
         }
-        let film = lens::paraxial::film_for_focus_from_film(p, focus_m * 1e3).map_err(|e| e.to_string())?;
-        let p = p.with_film_distance(film).map_err(|e| e.to_string())?;
+        let film = lens::paraxial::film_for_focus_from_film(p, focus_m * 1e3)?;
+        let p = p.with_film_distance(film)?;
         let z_film = p.total_track();
         let z_rear = p.last_vertex_z();
         let half_diag = 0.5 * (sensor[0].hypot(sensor[1]));
+        let trace = LensTrace::new(&p, &aperture);
+        let stop_sd = p.stop_semi_diameter();
+        let tables = PupilTables::build(&p, &aperture, z_film, z_rear, half_diag);
         let mut cam = RealLensCamera {
             frame,
-            tracer: Tracer::reverse(&p),
-            stop: p.stop_index(),
-            stop_sd: p.stop_semi_diameter(),
+            trace,
+            stop_sd,
             prescription: p,
             z_film,
             z_rear,
             sensor,
-            bin_width: half_diag / BINS as f64,
-            cells: Vec::new(),
+            tables,
             aperture,
             norm: 1.0,
         };
-        let rear = cam.prescription.surfaces().iter().rev().find_map(|x| x.semi_diameter).unwrap_or(cam.stop_sd) * 1.5;
-        cam.cells = (0..BINS).map(|i| cam.bound_bin(i, rear)).collect();
-        let centre = cam.mean_weight(0.0);
-        if centre.is_nan() || centre <= 0.0 {
-            return Err("no ray from the film centre passes the lens: check the stop and clear apertures".into());
+        let centre = cam.mean_weight_at_centre();
+        if !(centre.is_finite() && centre > 0.0) {
+            return Err(CameraError::NoLight);
         }
         cam.norm = centre;
         Ok(cam)
@@ -88,143 +136,110 @@ impl RealLensCamera {
         &self.prescription
     }
 
-    /// Exit-pupil bounds of one radial bin. A coarse grid over the rear
-    /// element finds the bounding box of passing rays from film points across
-    /// the bin; a fine grid over that box keeps the cells that passing rays
-    /// cross (probing each cell's centre and corners), grown by one cell on
-    /// every side so partly covered cells are kept. Sampling only these cells
-    /// is what beats a bounding box (pbrt's ~70% of rays through) on
-    /// off-axis, cat's-eye shaped pupils and on small stops.
-    fn bound_bin(&self, i: usize, rear: f64) -> (f64, Vec<(f64, f64)>) {
-        let radii: Vec<f64> = (0..RADII).map(|k| self.bin_width * (i as f64 + k as f64 / (RADII - 1) as f64)).collect();
-        // The bounds are rotated to each film point's azimuth, which only
-        // holds for a round stop; a shaped stop (polygon, mask) lies inside
-        // the round one at every azimuth, so bound with the round stop and
-        // let the shape reject rays when rendering.
-        let passes = |x: f64, y: f64| {
-            radii.iter().any(|&r| {
-                let film = DVec3::new(r, 0.0, self.z_film);
-                lens::Ray::new(film, DVec3::new(x, y, self.z_rear) - film)
-                    .is_some_and(|ray| self.tracer.trace(ray).reached().is_some())
-            })
-        };
-        let coarse = 2.0 * rear / GRID as f64;
-        let mut b = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];
-        for gy in 0..=GRID {
-            for gx in 0..=GRID {
-                let (x, y) = (-rear + coarse * gx as f64, -rear + coarse * gy as f64);
-                if passes(x, y) {
-                    b = [b[0].min(x), b[1].max(x), b[2].min(y), b[3].max(y)];
-                }
-            }
-        }
-        if !b[0].is_finite() {
-            return (0.0, Vec::new());
-        }
-        let (x0, y0) = (b[0] - coarse, b[2] - coarse);
-        let side = ((b[1] - b[0]).max(b[3] - b[2]) + 2.0 * coarse) / FINE as f64;
-        let mut hit = vec![false; FINE * FINE];
-        for gy in 0..FINE {
-            for gx in 0..FINE {
-                hit[gy * FINE + gx] = [(0.5, 0.5), (0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)]
-                    .iter()
-                    .any(|(ox, oy)| passes(x0 + side * (gx as f64 + ox), y0 + side * (gy as f64 + oy)));
-            }
-        }
-        let mut cells = Vec::new();
-        for gy in 0..FINE {
-            for gx in 0..FINE {
-                let near = (gy.saturating_sub(1)..=(gy + 1).min(FINE - 1))
-                    .any(|y| (gx.saturating_sub(1)..=(gx + 1).min(FINE - 1)).any(|x| hit[y * FINE + x]));
-                if near {
-                    cells.push((x0 + side * gx as f64, y0 + side * gy as f64));
-                }
-            }
-        }
-        (side, cells)
+    /// The mean unnormalised estimator weight at the film centre (1/mm^2,
+    /// the integral of cos^4 / d^2 over the passing part of the rear
+    /// vertex plane): what weights are divided by.
+    pub fn centre_weight(&self) -> f64 {
+        self.norm
     }
 
-    /// Mean estimator weight at a film radius (before normalisation): every
-    /// cell of the radius's bounds probed on a 4 x 4 sub-grid, so the mean
-    /// is exact to the cell resolution (a grid over the aperture uniforms
-    /// would visit only a few of the cells).
-    fn mean_weight(&self, r: f64) -> f64 {
-        let bin = ((r / self.bin_width) as usize).min(BINS - 1);
-        let Some((_, cells)) = self.cells.get(bin) else { return 0.0 };
-        let n = cells.len();
-        if n == 0 {
-            return 0.0;
-        }
-        let sub = 4;
+    /// The exit-pupil bounds.
+    pub fn tables(&self) -> &PupilTables {
+        &self.tables
+    }
+
+    /// Mean estimator weight at the film centre (before normalisation), by
+    /// 65,536 targets stratified over the centre's cells (a Kronecker
+    /// sequence in the second coordinate): the centre's pupil integral to
+    /// about 1e-4.
+    fn mean_weight_at_centre(&self) -> f64 {
+        const N: usize = 65_536;
+        let g = 0.618_033_988_749_894_9;
+        let samples: Vec<CameraSample> = (0..N)
+            .map(|k| CameraSample { film: (0.5, 0.5), aperture: ((k as f64 + 0.5) / N as f64, (k as f64 * g).fract()) })
+            .collect();
         let mut sum = 0.0;
-        for k in 0..n {
-            for j in 0..sub {
-                for i in 0..sub {
-                    let a = ((k as f64 + (i as f64 + 0.5) / sub as f64) / n as f64, (j as f64 + 0.5) / sub as f64);
-                    if let Some((_, w)) = self.lens_ray(r, 0.0, a) {
-                        sum += w;
+        self.lens_rays(&samples, |_, _, _, w| sum += w);
+        sum / N as f64
+    }
+
+    /// The lens-frame film point and rear-plane target of a sample, and the
+    /// bounds it was drawn from.
+    fn target(&self, s: &CameraSample) -> Option<(DVec3, DVec3, &PupilBounds)> {
+        // the lens inverts the image: film point opposite the scene point
+        let fx = -(s.film.0 - 0.5) * self.sensor[0];
+        let fy = -(0.5 - s.film.1) * self.sensor[1];
+        let (bounds, (bx, by)) = self.tables.sample(fx, fy, s.aperture)?;
+        Some((DVec3::new(fx, fy, self.z_film), DVec3::new(bx, by, self.z_rear), bounds))
+    }
+
+    /// Traces `samples` and hands each passing ray (lens frame, leaving the
+    /// first surface, mm) with its unnormalised weight to `emit`, in order,
+    /// with the sample's index; blocked samples are skipped.
+    fn lens_rays(&self, samples: &[CameraSample], mut emit: impl FnMut(usize, &RayBatch, usize, f64)) {
+        let d = self.z_film - self.z_rear;
+        let inv_d2 = 1.0 / (d * d);
+        let mut batch = RayBatch::with_capacity(BATCH.min(samples.len()));
+        let mut t = Vec::new();
+        // per sample: the bounds' area times the film-side cos^4 (taken
+        // before the trace moves the rays)
+        let mut factor = Vec::with_capacity(BATCH);
+        let shape = |x: f64, y: f64| self.aperture.transmission(x / self.stop_sd, y / self.stop_sd);
+        for (c, chunk) in samples.chunks(BATCH).enumerate() {
+            batch.clear();
+            factor.clear();
+            for s in chunk {
+                let aimed = self.target(s).and_then(|(f, to, b)| {
+                    let dir = to - f;
+                    let len2 = dir.length_squared();
+                    (len2 > 0.0 && len2.is_finite()).then(|| (f, dir / len2.sqrt(), b.area()))
+                });
+                match aimed {
+                    Some((origin, direction, area)) => {
+                        batch.push(lens::Ray { origin, direction });
+                        factor.push(area * direction.z.powi(4) * inv_d2);
+                    }
+                    None => {
+                        batch.push(lens::Ray::default());
+                        let last = batch.len() - 1;
+                        batch.status[last] = u64::MAX;
+                        factor.push(0.0);
                     }
                 }
             }
+            self.trace.trace(&mut batch, &mut t, shape);
+            for i in 0..chunk.len() {
+                let w = t[i] * factor[i];
+                if batch.status[i] == 0 && w > 0.0 {
+                    emit(c * BATCH + i, &batch, i, w);
+                }
+            }
         }
-        sum / (n * sub * sub) as f64
     }
 
-    /// Traces film point `f` toward rear-plane point `t` (lens frame, mm):
-    /// the ray leaving the first surface, if it passes (and, for a shaped
-    /// aperture, lands inside the shape at the stop), with the shape's
-    /// transmission there (1 for circles and polygons, the grey level of a
-    /// mask).
-    fn trace_lens(&self, f: DVec3, t: DVec3) -> Option<(lens::Ray, f64)> {
-        let ray = lens::Ray::new(f, t - f)?;
-        if self.aperture == Aperture::Circle {
-            return self.tracer.trace(ray).reached().map(|r| (r, 1.0));
-        }
-        let (outcome, at_stop) = self.tracer.trace_at_surface(ray, self.stop);
-        let out = outcome.reached()?;
-        let at_stop = at_stop?;
-        let t = self.aperture.transmission(at_stop.x / self.stop_sd, at_stop.y / self.stop_sd);
-        (t > 0.0).then_some((out, t))
-    }
-
-    /// A lens-frame ray for film point (fx, fy) mm and aperture sample `a`,
-    /// with its unnormalised weight A cos^4(theta) / d^2.
-    fn lens_ray(&self, fx: f64, fy: f64, a: (f64, f64)) -> Option<(lens::Ray, f64)> {
-        let r = fx.hypot(fy);
-        let bin = ((r / self.bin_width) as usize).min(BINS - 1);
-        let (side, cells) = self.cells.get(bin)?;
-        let side = *side;
-        if cells.is_empty() {
-            return None;
-        }
-        // a cell chosen by the first uniform, its remainder placing the point
-        let scaled = a.0 * cells.len() as f64;
-        let k = (scaled as usize).min(cells.len() - 1);
-        let (cx, cy) = cells[k];
-        let (bx, by) = (cx + (scaled - k as f64) * side, cy + a.1 * side);
-        // the bounds are for a film point on +x: rotate to this film point
-        let (c, s) = if r > 0.0 { (fx / r, fy / r) } else { (1.0, 0.0) };
-        let target = DVec3::new(c * bx - s * by, s * bx + c * by, self.z_rear);
-        let film = DVec3::new(fx, fy, self.z_film);
-        let (out, transmission) = self.trace_lens(film, target)?;
-        let d = self.z_film - self.z_rear;
-        let cos = (film - target).normalize().z.abs();
-        let area = cells.len() as f64 * side * side;
-        Some((out, transmission * area * cos.powi(4) / (d * d)))
-    }
-
-    /// The scene ray through film position (u, v) (v down) and its weight,
-    /// normalised to 1 on average at the film centre.
-    pub fn ray(&self, u: f64, v: f64, a: (f64, f64)) -> Option<(Ray, f64)> {
-        // the lens inverts the image: film point opposite the scene point
-        let fx = -(u - 0.5) * self.sensor[0];
-        let fy = -(0.5 - v) * self.sensor[1];
-        let (out, w) = self.lens_ray(fx, fy, a)?;
+    /// Scene rays for a batch of samples (film position u, v in [0, 1], v
+    /// down; aperture uniforms), each with its weight (normalised to 1 on
+    /// average at the film centre), `None` where the lens blocks the ray.
+    pub fn rays(&self, samples: &[CameraSample], out: &mut Vec<Option<(Ray, f64)>>) {
+        out.clear();
+        out.resize(samples.len(), None);
         let f = &self.frame;
+        let inv_norm = 1.0 / self.norm;
         // lens frame: x = right, y = up, z = against the viewing direction
         let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
-        let origin = f.origin + to_world(out.origin.x, out.origin.y, self.z_film - out.origin.z) * 1e-3;
-        let dir = to_world(out.direction.x, out.direction.y, -out.direction.z).normalize();
-        Some((Ray { origin, dir }, w / self.norm))
+        self.lens_rays(samples, |k, b, i, w| {
+            let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
+            // a rotation of a unit vector: unit already
+            let dir = to_world(b.dx[i], b.dy[i], -b.dz[i]);
+            out[k] = Some((Ray { origin, dir }, w * inv_norm));
+        });
+    }
+
+    /// The scene ray through one film position and its weight (see
+    /// [`Self::rays`]).
+    pub fn ray(&self, u: f64, v: f64, a: (f64, f64)) -> Option<(Ray, f64)> {
+        let mut out = Vec::with_capacity(1);
+        self.rays(&[CameraSample { film: (u, v), aperture: a }], &mut out);
+        out.pop().flatten()
     }
 }

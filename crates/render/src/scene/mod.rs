@@ -5,7 +5,7 @@ pub mod format;
 
 use crate::bvh::{Bvh, BVH_THRESHOLD};
 use crate::camera::aperture::Aperture;
-use crate::camera::{real_lens::RealLensCamera, Camera, Frame};
+use crate::camera::{real_lens::RealLensCamera, Camera, CameraError, Frame};
 use crate::geometry::{Hit, Ray, Shape};
 use crate::material::Material;
 use format::*;
@@ -36,15 +36,45 @@ pub enum SceneError {
         message: String,
     },
     /// An impossible value; names the field and what to change.
-    #[error("{path}: {field}: {message}")]
+    #[error("{path}: {field}: {source}")]
     Invalid {
         /// The file.
         path: String,
         /// The field, e.g. `shapes[3].radius`.
         field: String,
-        /// What to change.
-        message: String,
+        /// What is wrong and what to change.
+        source: FieldError,
     },
+}
+
+/// What is wrong with one field of a scene. Errors of the lens crate and of
+/// the camera are kept as they are, as the source.
+#[derive(Debug, thiserror::Error)]
+pub enum FieldError {
+    /// A value out of its domain, in words.
+    #[error("{0}")]
+    Message(String),
+    /// The camera could not be built.
+    #[error(transparent)]
+    Camera(#[from] CameraError),
+    /// The prescription could not be loaded.
+    #[error(transparent)]
+    Lens(#[from] lens::LoadError),
+    /// The prescription could not be set up as asked.
+    #[error(transparent)]
+    Optics(#[from] lens::OpticsError),
+}
+
+impl From<String> for FieldError {
+    fn from(m: String) -> Self {
+        FieldError::Message(m)
+    }
+}
+
+impl From<&str> for FieldError {
+    fn from(m: &str) -> Self {
+        FieldError::Message(m.to_string())
+    }
 }
 
 /// What rays that leave the scene see.
@@ -134,7 +164,11 @@ impl Scene {
 
     /// Builds a scene from its parsed file; `dir` resolves relative paths.
     pub fn build(file: SceneFile, dir: &Path, name: &str) -> Result<Scene, SceneError> {
-        let bad = |field: String, message: String| SceneError::Invalid { path: name.to_string(), field, message };
+        let bad = |field: String, message: String| SceneError::Invalid {
+            path: name.to_string(),
+            field,
+            source: message.into(),
+        };
         let finite = |field: &str, v: &[f64]| -> Result<(), SceneError> {
             if v.iter().all(|x| x.is_finite()) {
                 Ok(())
@@ -285,7 +319,11 @@ impl Scene {
                 Background::Sky { horizon: v3(*horizon), zenith: v3(*zenith), ground: v3(*ground) }
             }
         };
-        let camera = build_camera(&file.camera, f, dir).map_err(|(field, message)| bad(field, message))?;
+        let camera = build_camera(&file.camera, f, dir).map_err(|(field, source)| SceneError::Invalid {
+            path: name.to_string(),
+            field,
+            source,
+        })?;
         // acceleration only when there are enough bounded primitives
         let bounded: Vec<usize> = (0..shapes.len()).filter(|&i| !matches!(shapes[i], Shape::Plane { .. })).collect();
         let (bvh, linear) = if bounded.len() >= BVH_THRESHOLD {
@@ -339,7 +377,7 @@ impl Scene {
 /// The thin lens's distance to the plane in focus, from the distance `d`
 /// (m) measured from the film: with a focal length f, object and image
 /// distances s + s' = d and 1/s + 1/s' = 1/f give s = (d + sqrt(d (d - 4f))) / 2.
-fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<f64, (String, String)> {
+fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<f64, (String, FieldError)> {
     let Some(f_mm) = focal_length_mm else { return Ok(d) };
     let f = f_mm * 1e-3;
     if !(f.is_finite() && f > 0.0) {
@@ -348,25 +386,25 @@ fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<f64, (String, S
     if d < 4.0 * f {
         return Err((
             "camera.focus_distance".into(),
-            format!("{d} m from the film: a {f_mm} mm thin lens cannot focus nearer than 4f = {} m", 4.0 * f),
+            format!("{d} m from the film: a {f_mm} mm thin lens cannot focus nearer than 4f = {} m", 4.0 * f).into(),
         ));
     }
     Ok(0.5 * (d + (d * (d - 4.0 * f)).sqrt()))
 }
 
-fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (String, String)> {
+fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (String, FieldError)> {
     let aspect = film.width as f64 / film.height as f64;
-    let pose = |p: &Pose| -> Result<Frame, (String, String)> {
+    let pose = |p: &Pose| -> Result<Frame, (String, FieldError)> {
         if ![p.position, p.look_at, p.up].iter().flatten().all(|x| x.is_finite()) {
             return Err(("camera".into(), "position, look_at and up must be finite".into()));
         }
-        Frame::look_at(v3(p.position), v3(p.look_at), v3(p.up)).map_err(|m| ("camera.look_at".into(), m))
+        Frame::look_at(v3(p.position), v3(p.look_at), v3(p.up)).map_err(|e| ("camera.look_at".into(), e.into()))
     };
-    let fov = |f: f64| -> Result<f64, (String, String)> {
+    let fov = |f: f64| -> Result<f64, (String, FieldError)> {
         if f.is_finite() && f > 0.0 && f < 180.0 {
             Ok((f.to_radians() / 2.0).tan())
         } else {
-            Err(("camera.fov_deg".into(), format!("{f}: a field of view between 0 and 180 degrees")))
+            Err(("camera.fov_deg".into(), format!("{f}: a field of view between 0 and 180 degrees").into()))
         }
     };
     match c {
@@ -395,7 +433,7 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
                 }
             };
             if !(diameter.is_finite() && diameter >= 0.0) {
-                return Err(("camera.aperture".into(), format!("{diameter}: a diameter >= 0 m")));
+                return Err(("camera.aperture".into(), format!("{diameter}: a diameter >= 0 m").into()));
             }
             if !(focus_distance.is_finite() && *focus_distance > 0.0) {
                 return Err(("camera.focus_distance".into(), "must be a positive distance in m".into()));
@@ -409,7 +447,8 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
                 aspect,
                 radius: diameter / 2.0,
                 focus: lens_to_focus(*focus_distance, *focal_length_mm)?,
-                aperture: Aperture::from_spec(aperture_shape, dir).map_err(|m| ("camera.aperture_shape".into(), m))?,
+                aperture: Aperture::from_spec(aperture_shape, dir)
+                    .map_err(|m| ("camera.aperture_shape".into(), m.into()))?,
                 focus_shift: *focus_shift,
             })
         }
@@ -424,19 +463,20 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
         } => {
             let path = dir.join(prescription);
             let mut lens =
-                lens::Prescription::load(&path).map_err(|e| ("camera.prescription".to_string(), e.to_string()))?;
+                lens::Prescription::load(&path).map_err(|e| ("camera.prescription".to_string(), e.into()))?;
             if let Some(n) = f_number {
                 lens = lens::analysis::aperture::with_f_number(&lens, *n)
-                    .map_err(|e| ("camera.f_number".to_string(), e.to_string()))?;
+                    .map_err(|e| ("camera.f_number".to_string(), e.into()))?;
             }
             if let Some(sd) = stop_semi_diameter {
                 lens = lens
                     .with_stop_semi_diameter(*sd)
-                    .map_err(|e| ("camera.stop_semi_diameter".to_string(), e.to_string()))?;
+                    .map_err(|e| ("camera.stop_semi_diameter".to_string(), e.into()))?;
             }
-            let aperture = Aperture::from_spec(aperture_shape, dir).map_err(|m| ("camera.aperture_shape".into(), m))?;
+            let aperture =
+                Aperture::from_spec(aperture_shape, dir).map_err(|m| ("camera.aperture_shape".into(), m.into()))?;
             let cam = RealLensCamera::new(pose(&c.pose())?, &lens, *focus_distance, *sensor_mm, aperture)
-                .map_err(|m| ("camera".to_string(), m))?;
+                .map_err(|e| ("camera".to_string(), e.into()))?;
             Ok(Camera::Real(Box::new(cam)))
         }
     }

@@ -6,12 +6,21 @@
 //!
 //! - A round stop: the lens and stop are symmetric about the axis, so the
 //!   bounds depend on the film radius alone; they are made for film points
-//!   on +x in 64 radial bins and rotated to each film point's azimuth. Each
-//!   bin's region is a set of cells: a 32 x 32 grid over the box of
-//!   passing rays, the cells that passing rays reach (grown by one cell),
-//!   and those on the region's edge split 8 x 8 and kept only where a
-//!   passing probe lies within one sub-cell. Probes go as batches through
-//!   the lens crate's batch tracer, the bins in parallel.
+//!   on +x in 96 radial bins and rotated to each film point's azimuth. A
+//!   bin's region is a star-shaped polygon about the centroid of the
+//!   passing probes: its boundary is found along 256 directions by
+//!   bisection (to 1/4096 of the region's box) for the bin's two edge radii
+//!   and its middle, and grown for the film radii between them (a quarter
+//!   of their spread), for the boundary between directions (the largest of
+//!   three neighbours, over the cosine of half the angle between them) and
+//!   by half a percent. Targets are drawn from its triangles by an alias
+//!   table. Where the region is not star-shaped (a probe that passes lies
+//!   outside the polygon, or the centre does not pass), a set of cells
+//!   takes over: a 32 x 32 grid over the region's box, the cells that
+//!   passing probes reach (grown by one cell), those on the edge split
+//!   8 x 8 and kept only where a passing probe lies within one sub-cell.
+//!   Probes go as batches through the lens crate's batch tracer, the bins
+//!   in parallel.
 //! - A shaped stop (polygon, mask): rotating the bounds would turn the
 //!   shape, so the shape itself is sampled. Per radial bin, the map from
 //!   rear-plane target to stop point is fitted by an affine map (least
@@ -35,7 +44,7 @@ type Point = (f64, f64);
 type Bounds = [f64; 4];
 
 /// Radial bins of the bounds.
-const BINS: usize = 64;
+const BINS: usize = 96;
 /// Probes across the rear element when finding a bin's box.
 const COARSE: usize = 32;
 /// Cells across a bin's box.

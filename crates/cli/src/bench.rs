@@ -1,28 +1,27 @@
 //! `lens bench`: throughput of the batch tracer on one thread.
 
+use crate::args::{JsonArgs, LensArgs};
 use crate::{print_json, CmdResult};
-use lens::{trace::bench::Workload, Prescription};
+use lens::trace::bench::Workload;
 use serde_json::json;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Prescription file (.json or pbrt .dat).
-    file: PathBuf,
+    #[command(flatten)]
+    lens: LensArgs,
     /// Number of rays per pass.
     #[arg(long, default_value_t = 1_000_000)]
     rays: usize,
-    /// Print one JSON object.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    out: JsonArgs,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = Prescription::load(&a.file)?;
+    let p = a.lens.load()?;
     let w = Workload::new(&p, a.rays)?;
     let m = w.measure(std::time::Duration::from_millis(1500));
-    if a.json {
+    if a.out.json {
         print_json(&json!({
             "rays": a.rays,
             "surfaces": p.surfaces().len(),

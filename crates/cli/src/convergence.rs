@@ -1,7 +1,8 @@
 //! `lens convergence`: error against run time of the pupil-sampled
 //! statistics, as a markdown report.
 
-use crate::{load, CmdResult};
+use crate::args::LensArgs;
+use crate::CmdResult;
 use lens::analysis::convergence::{coc_rms, spot_rms, Convergence};
 use lens::analysis::Field;
 use std::fmt::Write;
@@ -10,8 +11,8 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Prescription file (.json or pbrt .dat).
-    file: PathBuf,
+    #[command(flatten)]
+    lens: LensArgs,
     /// Field angle of the spot statistic, degrees.
     #[arg(long, default_value_t = 10.0)]
     field_deg: f64,
@@ -47,12 +48,11 @@ fn table(out: &mut String, c: &Convergence) {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = load(&a.file, None)?;
+    let p = a.lens.load()?;
     let spot = spot_rms(&p, Field::Angle(a.field_deg))?;
     let coc = coc_rms(&p, a.focus_mm, a.object_mm)?;
     let mut out = String::new();
-    let _ =
-        writeln!(out, "## {}\n", if p.name().is_empty() { a.file.display().to_string() } else { p.name().to_string() });
+    let _ = writeln!(out, "## {}\n", a.lens.name(&p));
     table(&mut out, &spot);
     table(&mut out, &coc);
     match a.output {

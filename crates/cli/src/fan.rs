@@ -1,35 +1,58 @@
 //! `lens fan`: tangential and sagittal ray fans at one field.
 
-use crate::analysis_args::{plane, FieldArgs};
-use crate::{load, print_json, CmdResult};
-use lens::analysis::{fan::ray_fan, Field};
+use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs};
+use crate::{print_json, CmdResult};
+use lens::analysis::fan::fan_with;
+use lens::analysis::{Field, Launcher};
+use lens::paraxial::FirstOrder;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    f: FieldArgs,
-    /// Points per fan, evenly spaced on [-1, 1] (odd includes 0).
+    lens: LensArgs,
+    #[command(flatten)]
+    field: FieldArgs,
+    #[command(flatten)]
+    aim: AimArgs,
+    #[command(flatten)]
+    plane: PlaneArgs,
+    /// Points per fan, evenly spaced on [-1, 1] (odd includes 0; at least 2).
     #[arg(long, default_value_t = 21)]
     points: usize,
+    #[command(flatten)]
+    out: JsonArgs,
+    #[command(flatten)]
+    plot: PlotArgs,
+    /// Plot these field angles (degrees, comma-separated) instead of
+    /// --field-deg alone.
+    #[arg(long, value_name = "DEG,DEG", value_parser = parse_list)]
+    plot_fields: Option<std::vec::Vec<f64>>,
 }
 
-pub fn run(args: Args) -> CmdResult {
-    let a = &args.f;
-    let p = load(&a.file, a.f_number)?;
-    let fan_at = |deg: f64| ray_fan(&p, Field::Angle(deg), args.points, a.aim.into(), plane(a.film));
-    let fan = fan_at(a.field_deg)?;
-    if let Some(out) = &a.plot {
-        let fans = a.plotted_fields().into_iter().map(fan_at).collect::<Result<Vec<_>, _>>()?;
+pub fn run(a: Args) -> CmdResult {
+    let p = a.lens.load()?;
+    if a.points < 2 {
+        return Err(format!("--points {}: a fan needs at least 2 points", a.points).into());
+    }
+    let first = FirstOrder::of(&p)?;
+    let fan_at = |deg: f64| -> Result<_, lens::OpticsError> {
+        let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), a.aim.aim())?;
+        fan_with(&p, &launcher, a.points, a.plane.plane())
+    };
+    let fan = fan_at(a.field.field_deg)?;
+    if let Some(out) = &a.plot.plot {
+        let fields = a.plot_fields.clone().unwrap_or_else(|| vec![a.field.field_deg]);
+        let fans = fields.into_iter().map(fan_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::fan::fan_chart(&fans, p.name()), out)?;
     }
-    if a.json {
+    if a.out.json {
         print_json(&serde_json::to_value(&fan)?);
         return Ok(ExitCode::SUCCESS);
     }
     println!(
         "ray fan at {} deg on z = {:.6} mm (chief ray at x {:.6}, y {:.6} mm)",
-        a.field_deg, fan.image_z, fan.chief[0], fan.chief[1]
+        a.field.field_deg, fan.image_z, fan.chief[0], fan.chief[1]
     );
     println!("{:>9} {:>14} {:>9} {:>14}", "py", "ey (mm)", "px", "ex (mm)");
     let f = |v: Option<f64>| v.map_or("vignetted".to_string(), |v| format!("{v:.6e}"));

@@ -1,40 +1,36 @@
 //! `lens field`: distortion, field curvature, spherical aberration and
 //! vignetting against field.
 
-use crate::analysis_args::AimArg;
-use crate::{load, print_json, CmdResult};
+use crate::args::{AimArgs, JsonArgs, LensArgs, PlotArgs};
+use crate::{print_json, CmdResult};
 use lens::analysis::curves::field_curves;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Prescription file (.json or pbrt .dat).
-    file: PathBuf,
+    #[command(flatten)]
+    lens: LensArgs,
     /// Largest field angle, degrees (default: where the chief ray is lost).
     #[arg(long, value_name = "DEG")]
     max_field_deg: Option<f64>,
     /// Number of fields from 0 to the largest.
     #[arg(long, default_value_t = 11)]
     fields: usize,
-    /// How pupil coordinates become rays.
-    #[arg(long, value_enum, default_value_t = AimArg::Paraxial)]
-    aim: AimArg,
-    /// Print JSON.
-    #[arg(long)]
-    json: bool,
-    /// Write a plot (.svg or .png).
-    #[arg(long, value_name = "OUT")]
-    plot: Option<PathBuf>,
+    #[command(flatten)]
+    aim: AimArgs,
+    #[command(flatten)]
+    out: JsonArgs,
+    #[command(flatten)]
+    plot: PlotArgs,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = load(&a.file, None)?;
-    let c = field_curves(&p, a.max_field_deg, a.fields, a.aim.into())?;
-    if let Some(out) = &a.plot {
+    let p = a.lens.load()?;
+    let c = field_curves(&p, a.max_field_deg, a.fields, a.aim.aim())?;
+    if let Some(out) = &a.plot.plot {
         plot::save(&plot::field::field_chart(&c, p.name()), out)?;
     }
-    if a.json {
+    if a.out.json {
         print_json(&serde_json::to_value(&c)?);
         return Ok(ExitCode::SUCCESS);
     }

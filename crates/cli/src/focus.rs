@@ -1,53 +1,54 @@
 //! `lens focus`: the film distance that focuses an object, or the object
 //! in focus for a film distance.
 
-use crate::{load, object_distance, print_json, CmdResult};
+use crate::args::{JsonArgs, LensArgs, ObjectArgs};
+use crate::{print_json, CmdResult};
+use lens::error::num;
 use lens::paraxial::ObjectDistance;
 use serde_json::json;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
+#[command(group = clap::ArgGroup::new("what").required(true).args(["object_distance", "film_distance"]))]
 pub struct Args {
-    /// Prescription file (.json or pbrt .dat).
-    file: PathBuf,
-    /// Object distance in mm in front of the first vertex (`inf` for infinity).
-    #[arg(long, value_name = "MM", allow_hyphen_values = true, required_unless_present = "film_distance")]
-    object_distance: Option<f64>,
+    #[command(flatten)]
+    lens: LensArgs,
+    #[command(flatten)]
+    object: ObjectArgs,
     /// The inverse: which object is in focus on a film this many mm behind
     /// the last vertex.
     #[arg(long, value_name = "MM", allow_hyphen_values = true, conflicts_with = "object_distance")]
     film_distance: Option<f64>,
-    /// Resize the stop to this f-number first.
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
-    f_number: Option<f64>,
-    /// Print one JSON object.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    out: JsonArgs,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = load(&a.file, a.f_number)?;
+    let p = a.lens.load()?;
     if let Some(film) = a.film_distance {
         let d = match lens::paraxial::object_distance_in_focus(&p, film)? {
             ObjectDistance::Infinity => None,
             ObjectDistance::Finite(d) => Some(d),
         };
-        if a.json {
+        if a.out.json {
             print_json(&json!({"film_distance": film, "object_distance": d}));
         } else {
             match d {
-                Some(d) => println!("a film {film} mm behind the last vertex is in focus for an object {d:.6} mm in front of the first vertex"),
-                None => println!("a film {film} mm behind the last vertex is in focus at infinity"),
+                Some(d) => println!(
+                    "a film {} mm behind the last vertex is in focus for an object {} mm in front of the first vertex",
+                    num(film),
+                    num(d)
+                ),
+                None => println!("a film {} mm behind the last vertex is in focus at infinity", num(film)),
             }
         }
         return Ok(ExitCode::SUCCESS);
     }
-    let object = object_distance(a.object_distance)?;
+    let object = a.object.object()?;
     let f = lens::analysis::focus::focus(&p, object)?;
-    if a.json {
+    if a.out.json {
         print_json(&json!({
-            "object_distance": a.object_distance.filter(|d| d.is_finite()),
+            "object_distance": a.object.object_distance.filter(|d| d.is_finite()),
             "film_distance": f.film_distance,
             "best_focus_film_distance": f.best_focus_film_distance,
             "rms_radius_at_paraxial_focus": f.rms_radius_at_paraxial_focus,
@@ -58,7 +59,7 @@ pub fn run(a: Args) -> CmdResult {
     }
     match object {
         ObjectDistance::Infinity => println!("object distance        infinity"),
-        ObjectDistance::Finite(d) => println!("object distance        {d} mm in front of the first vertex"),
+        ObjectDistance::Finite(d) => println!("object distance        {} mm in front of the first vertex", num(d)),
     }
     println!("film distance          {:.9} mm behind the last vertex (paraxial)", f.film_distance);
     println!(

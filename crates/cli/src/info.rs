@@ -1,33 +1,30 @@
 //! `lens info`: first-order properties of a prescription.
 
-use crate::{load, object_distance, print_json, CmdResult};
+use crate::args::{JsonArgs, LensArgs, ObjectArgs};
+use crate::{print_json, CmdResult};
+use lens::analysis::aperture::clear_aperture_limit;
 use lens::paraxial::{imaging, FirstOrder, ObjectDistance};
 use serde_json::json;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Prescription file (.json or pbrt .dat).
-    file: PathBuf,
-    /// Object distance in mm in front of the first vertex (default: infinity).
-    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
-    object_distance: Option<f64>,
-    /// Resize the stop to this f-number (object at infinity).
-    #[arg(long, value_name = "N", allow_hyphen_values = true)]
-    f_number: Option<f64>,
-    /// Print one JSON object instead of a table.
-    #[arg(long)]
-    json: bool,
+    #[command(flatten)]
+    lens: LensArgs,
+    #[command(flatten)]
+    object: ObjectArgs,
+    #[command(flatten)]
+    out: JsonArgs,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = load(&a.file, a.f_number)?;
-    let object = object_distance(a.object_distance)?;
+    let p = a.lens.load()?;
+    let object = a.object.object()?;
     let f = FirstOrder::of(&p)?;
+    let limit = clear_aperture_limit(&p, &f);
     let img = imaging(&p, &f, object)?;
     let pupil = |z: Option<f64>, d: Option<f64>| json!({"z": z, "diameter": d});
-    if a.json {
+    if a.out.json {
         print_json(&json!({
             "name": p.name(),
             "efl": f.efl,
@@ -45,8 +42,7 @@ pub fn run(a: Args) -> CmdResult {
         }));
         return Ok(ExitCode::SUCCESS);
     }
-    let name = if p.name().is_empty() { a.file.display().to_string() } else { p.name().to_string() };
-    println!("{name}");
+    println!("{}", a.lens.name(&p));
     if let Some(s) = p.source() {
         println!("  source: {s}");
     }
@@ -72,9 +68,16 @@ pub fn run(a: Args) -> CmdResult {
         },
     );
     row("f-number", format!("{:.4}", f.f_number));
+    if let Some(l) = limit {
+        let note = if l.f_number > f.f_number { "; the stop is larger than they let through" } else { "" };
+        row(
+            "clear apertures allow",
+            format!("f/{:.4} (surface {}, semi-diameter {} mm{note})", l.f_number, l.surface + 1, l.semi_diameter),
+        );
+    }
     let obj = match object {
         ObjectDistance::Infinity => "infinity".to_string(),
-        ObjectDistance::Finite(d) => format!("{d} mm"),
+        ObjectDistance::Finite(d) => format!("{} mm", lens::error::num(d)),
     };
     row("object distance", obj);
     row("image distance", format!("{:.6}  (from the last vertex)", img.image_distance));

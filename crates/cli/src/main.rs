@@ -2,7 +2,7 @@
 //! library, prints. Exit codes: 0 success, 1 a finding or computation error,
 //! 2 bad usage.
 
-mod analysis_args;
+mod args;
 mod bench;
 mod coc;
 mod convergence;
@@ -94,20 +94,6 @@ fn restore_sigpipe() {
 
 /// Errors a command reports (already formatted by the library).
 type CmdResult = Result<ExitCode, Box<dyn std::error::Error>>;
-
-/// Loads a prescription and applies an optional f-number override.
-fn load(path: &std::path::Path, f_number: Option<f64>) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
-    let p = lens::Prescription::load(path)?;
-    Ok(match f_number {
-        Some(n) => lens::analysis::aperture::with_f_number(&p, n)?,
-        None => p,
-    })
-}
-
-/// Parses an object distance in mm; `inf` or `infinity` means infinity.
-fn object_distance(mm: Option<f64>) -> Result<lens::paraxial::ObjectDistance, lens::OpticsError> {
-    lens::paraxial::ObjectDistance::from_mm(mm.unwrap_or(f64::INFINITY))
-}
 
 /// Prints a JSON value on one line.
 fn print_json(v: &serde_json::Value) {

@@ -1,14 +1,18 @@
 //! `lens spot`: spot diagram statistics at one field.
 
-use crate::analysis_args::{plane, FieldArgs};
-use crate::{load, print_json, CmdResult};
+use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs};
+use crate::{print_json, CmdResult};
 use lens::analysis::pattern::Pattern;
-use lens::analysis::{spot::spot_diagram, Field};
+use lens::analysis::{spot::spot_with, Field, Launcher};
+use lens::paraxial::FirstOrder;
 use serde_json::json;
 use std::process::ExitCode;
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 pub enum PatternArg {
+    /// n Gauss-Legendre rings of 4n + 4 points, weighted by area: the RMS
+    /// converges to the true value (the default).
+    Gauss,
     /// n x n grid, points inside the unit circle.
     Square,
     /// n rings of 6k points.
@@ -20,32 +24,53 @@ pub enum PatternArg {
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    f: FieldArgs,
+    lens: LensArgs,
+    #[command(flatten)]
+    field: FieldArgs,
+    #[command(flatten)]
+    aim: AimArgs,
+    #[command(flatten)]
+    plane: PlaneArgs,
     /// Pupil pattern.
-    #[arg(long, value_enum, default_value_t = PatternArg::Hexapolar)]
+    #[arg(long, value_enum, default_value_t = PatternArg::Gauss)]
     pattern: PatternArg,
-    /// Grid width (square), ring count (hexapolar) or ray count (random).
+    /// Ring count (gauss, hexapolar), grid width (square) or ray count
+    /// (random).
     #[arg(long, default_value_t = 12)]
     n: usize,
+    #[command(flatten)]
+    out: JsonArgs,
+    #[command(flatten)]
+    plot: PlotArgs,
+    /// Plot these field angles (degrees, comma-separated) instead of
+    /// --field-deg alone.
+    #[arg(long, value_name = "DEG,DEG", value_parser = parse_list)]
+    plot_fields: Option<std::vec::Vec<f64>>,
 }
 
 pub fn run(args: Args) -> CmdResult {
-    let a = &args.f;
-    let p = load(&a.file, a.f_number)?;
+    let p = args.lens.load()?;
     let pattern = match args.pattern {
+        PatternArg::Gauss => Pattern::Gauss,
         PatternArg::Square => Pattern::Square,
         PatternArg::Hexapolar => Pattern::Hexapolar,
         PatternArg::Random => Pattern::Random,
     };
-    let spot_at = |deg: f64| spot_diagram(&p, Field::Angle(deg), pattern, args.n, a.aim.into(), plane(a.film));
-    let s = spot_at(a.field_deg)?;
-    if let Some(out) = &a.plot {
-        let spots = a.plotted_fields().into_iter().map(spot_at).collect::<Result<Vec<_>, _>>()?;
+    let first = FirstOrder::of(&p)?;
+    let spot_at = |deg: f64| -> Result<_, lens::OpticsError> {
+        let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), args.aim.aim())?;
+        spot_with(&p, &launcher, pattern, args.n, args.plane.plane())
+    };
+    let field_deg = args.field.field_deg;
+    let s = spot_at(field_deg)?;
+    if let Some(out) = &args.plot.plot {
+        let fields = args.plot_fields.clone().unwrap_or_else(|| vec![field_deg]);
+        let spots = fields.into_iter().map(spot_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::spot::spot_chart(&spots, p.name()), out)?;
     }
-    if a.json {
+    if args.out.json {
         print_json(&json!({
-            "field_deg": a.field_deg,
+            "field_deg": field_deg,
             "image_z": s.image_z,
             "rays": s.rays,
             "vignetted": s.vignetted,
@@ -62,7 +87,13 @@ pub fn run(args: Args) -> CmdResult {
         }));
         return Ok(ExitCode::SUCCESS);
     }
-    println!("spot at {} deg on z = {:.6} mm: {} rays, {} vignetted", a.field_deg, s.image_z, s.rays, s.vignetted);
+    println!(
+        "spot at {field_deg} deg on z = {:.6} mm, {} pattern: {} rays, {} vignetted",
+        s.image_z,
+        pattern.name(),
+        s.rays,
+        s.vignetted
+    );
     println!("  centroid            x {:.6e}, y {:.6e} mm", s.centroid[0], s.centroid[1]);
     println!(
         "  RMS radius          {:.6e} mm (about the centroid), {:.6e} mm (about the chief ray)",

@@ -110,6 +110,20 @@ pub enum OpticsError {
         /// Effective focal length, mm.
         efl: f64,
     },
+    /// The real rays of an object focus nowhere a film can be: their least
+    /// RMS spot lies at or before the last vertex (an object just beyond
+    /// the front focal point, whose paraxial image is far away while the
+    /// real bundle is wildly aberrated).
+    #[error("{}: its paraxial image is {} mm behind the last vertex, but the real rays' best focus is at {} mm, not behind the lens; move the object farther from the front focal point", object(object_distance), num(*film_distance), num(*best_focus))]
+    NoRealFocus {
+        /// Object distance in mm in front of the first vertex (`None`:
+        /// infinity).
+        object_distance: Option<f64>,
+        /// Paraxial film distance, mm.
+        film_distance: f64,
+        /// Film distance of least RMS spot, mm (<= 0).
+        best_focus: f64,
+    },
     /// No real object is in focus for this film distance.
     #[error("a film {} mm behind the last vertex brings no real object into focus: {}", num(*film_distance), no_real_object(*film_distance, *bfl))]
     NoRealObject {

@@ -29,8 +29,9 @@ pub struct CocRow {
 /// A circle-of-confusion table for a lens focused at S1.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CocTable {
-    /// Focus distance S1, mm in front of the first vertex.
-    pub focus_distance: f64,
+    /// Focus distance S1, mm in front of the first vertex (`None` =
+    /// infinity).
+    pub focus_distance: Option<f64>,
     /// Film distance that focuses S1 exactly (paraxial), mm behind the last
     /// vertex.
     pub film_distance: f64,
@@ -45,28 +46,30 @@ pub struct CocTable {
     pub rows: Vec<CocRow>,
 }
 
-/// Focuses `p` on an object `s1` mm away (film solved exactly) and measures
+/// Focuses `p` on an object `s1` mm away (`f64::INFINITY` for infinity; film
+/// solved exactly) and measures
 /// the real blur of on-axis objects at `distances` (mm; `f64::INFINITY` for
 /// infinity) from a full-aperture bundle: geometric diameter from a dense
 /// meridional fan, RMS diameter by Gauss–Legendre quadrature over the pupil.
 pub fn circle_of_confusion(p: &Prescription, s1: f64, distances: &[f64]) -> Result<CocTable, OpticsError> {
-    let ObjectDistance::Finite(s1) = ObjectDistance::from_mm(s1)? else {
-        return Err(OpticsError::BadInput {
-            name: "focus distance",
-            value: s1,
-            expected: "a finite focus distance in mm",
-        });
-    };
+    let focus = ObjectDistance::from_mm(s1).map_err(|_| OpticsError::BadInput {
+        name: "focus distance",
+        value: s1,
+        expected: "a positive distance in mm in front of the first vertex, or infinity",
+    })?;
     let first = FirstOrder::of(p)?;
-    let film = film_distance_with(p, &first, ObjectDistance::Finite(s1))?;
+    let film = film_distance_with(p, &first, focus)?;
     let (f, a) = (first.efl, first.entrance_pupil.diameter);
     let mut rows = Vec::with_capacity(distances.len());
     for &s2 in distances {
         let object = ObjectDistance::from_mm(s2)?;
         let bundle = AxialBundle::trace(p, &first, object, film)?;
-        let thin = match object {
-            ObjectDistance::Infinity => a * f / (s1 - f),
-            ObjectDistance::Finite(s2) => a * (s2 - s1).abs() / s2 * f / (s1 - f),
+        // C = A |S2 - S1| / S2 * f / (S1 - f), and its limits at infinity
+        let thin = match (focus, object) {
+            (ObjectDistance::Finite(s1), ObjectDistance::Infinity) => a * f / (s1 - f),
+            (ObjectDistance::Finite(s1), ObjectDistance::Finite(s2)) => a * (s2 - s1).abs() / s2 * f / (s1 - f),
+            (ObjectDistance::Infinity, ObjectDistance::Finite(s2)) => a * f / s2,
+            (ObjectDistance::Infinity, ObjectDistance::Infinity) => 0.0,
         };
         rows.push(CocRow {
             distance: match object {
@@ -80,7 +83,10 @@ pub fn circle_of_confusion(p: &Prescription, s1: f64, distances: &[f64]) -> Resu
         });
     }
     Ok(CocTable {
-        focus_distance: s1,
+        focus_distance: match focus {
+            ObjectDistance::Infinity => None,
+            ObjectDistance::Finite(d) => Some(d),
+        },
         film_distance: film,
         efl: f,
         entrance_pupil_diameter: a,

@@ -41,6 +41,16 @@ pub fn focus(p: &Prescription, object: ObjectDistance) -> Result<Focus, OpticsEr
     let film = film_distance_with(p, &first, object)?;
     let bundle = AxialBundle::trace(p, &first, object, film)?;
     let (t, rms_best) = bundle.least_rms_shift();
+    if !(film + t > 0.0 && (film + t).is_finite()) {
+        return Err(OpticsError::NoRealFocus {
+            object_distance: match object {
+                ObjectDistance::Infinity => None,
+                ObjectDistance::Finite(d) => Some(d),
+            },
+            film_distance: film,
+            best_focus: film + t,
+        });
+    }
     Ok(Focus {
         film_distance: film,
         best_focus_film_distance: film + t,
@@ -85,13 +95,17 @@ impl AxialBundle {
         let ep = first.entrance_pupil;
         let r_ep = ep.diameter / 2.0;
         let traced = std::cell::Cell::new(0usize);
+        let z_start = ep.z.min(0.0) - 1.0;
         let make = |rho: f64| -> Option<Ray> {
             let aim = DVec3::new(0.0, rho * r_ep, ep.z);
             match object {
                 ObjectDistance::Infinity => Ray::new(aim, DVec3::Z),
                 ObjectDistance::Finite(d) => {
-                    let o = DVec3::new(0.0, 0.0, -d);
-                    Ray::new(o, aim - o)
+                    // the ray from the object through the aim point, started
+                    // on the plane in front of the lens (an object at 1e200 mm
+                    // is then as good as one at infinity, not an overflow)
+                    let dir = DVec3::new(0.0, rho * r_ep / (d + ep.z), 1.0);
+                    Ray::new(aim - dir * (ep.z - z_start), dir)
                 }
             }
         };

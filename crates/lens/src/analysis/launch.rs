@@ -53,7 +53,16 @@ pub enum Aim {
     /// Solved by Newton iteration so that the real ray meets the stop at
     /// (px, py) x the stop radius (wide-angle and fisheye lenses).
     Real,
+    /// Paraxial where that is good enough, real where it is not: real when
+    /// the paraxial chief ray misses the stop's centre by more than
+    /// [`AUTO_TOLERANCE`] of the stop radius, or a paraxial rim ray does not
+    /// reach the stop surface. Resolved once per field by the launcher.
+    Auto,
 }
+
+/// How far (a fraction of the stop radius) the paraxial chief ray may miss
+/// the stop's centre before [`Aim::Auto`] aims real rays.
+pub const AUTO_TOLERANCE: f64 = 0.05;
 
 /// Launches rays of one field into a prescription.
 #[derive(Debug, Clone)]
@@ -68,6 +77,9 @@ pub struct Launcher {
     /// the offset from the entrance-pupil point back to the start plane
     /// (made once, not per ray).
     beam: Option<Beam>,
+    /// Whether the aiming was asked as [`Aim::Auto`] (then `aim` holds what
+    /// it resolved to for this field).
+    auto: bool,
 }
 
 /// A collimated beam's direction, kept with its launcher.
@@ -101,7 +113,7 @@ impl Launcher {
     pub fn with_first(p: &Prescription, first: &FirstOrder, field: Field, aim: Aim) -> Result<Self, OpticsError> {
         check_field(field)?;
         let z_start = first.entrance_pupil.z.min(0.0) - 1.0;
-        Ok(Launcher {
+        let l = Launcher {
             field,
             aim,
             first: *first,
@@ -109,17 +121,43 @@ impl Launcher {
             stop_radius: p.stop_semi_diameter(),
             z_start,
             beam: Beam::of(field, first.entrance_pupil.z, z_start),
-        })
+            auto: false,
+        };
+        Ok(l.resolved())
     }
 
     /// The same launcher for another field (the first-order data and the
     /// to-stop tracer are kept).
     pub fn at_field(&self, field: Field) -> Result<Self, OpticsError> {
         check_field(field)?;
-        Ok(Launcher { field, beam: Beam::of(field, self.first.entrance_pupil.z, self.z_start), ..self.clone() })
+        let l = Launcher {
+            field,
+            aim: if self.auto { Aim::Auto } else { self.aim },
+            beam: Beam::of(field, self.first.entrance_pupil.z, self.z_start),
+            ..self.clone()
+        };
+        Ok(l.resolved())
     }
 
-    /// How rays are aimed.
+    /// Resolves [`Aim::Auto`] for this launcher's field: paraxial when the
+    /// paraxial chief ray meets the stop within [`AUTO_TOLERANCE`] of its
+    /// radius from the centre and the four rim rays reach the stop surface,
+    /// real otherwise.
+    fn resolved(mut self) -> Self {
+        if self.aim != Aim::Auto {
+            self.auto = false;
+            return self;
+        }
+        self.auto = true;
+        let r_ep = self.first.entrance_pupil.diameter / 2.0;
+        let hit = |px: f64, py: f64| self.stop_hit(self.field, DVec2::new(px, py) * r_ep);
+        let chief_ok = hit(0.0, 0.0).is_some_and(|h| h.length() <= AUTO_TOLERANCE * self.stop_radius);
+        let rims_ok = [(1.0, 0.0), (-1.0, 0.0), (0.0, 1.0), (0.0, -1.0)].iter().all(|&(x, y)| hit(x, y).is_some());
+        self.aim = if chief_ok && rims_ok { Aim::Paraxial } else { Aim::Real };
+        self
+    }
+
+    /// How rays are aimed for this field ([`Aim::Auto`] resolved).
     pub fn aim(&self) -> Aim {
         self.aim
     }
@@ -173,7 +211,7 @@ impl Launcher {
         };
         match self.aim {
             Aim::Paraxial => self.ray_through(guess).ok_or_else(bad),
-            Aim::Real => {
+            Aim::Real | Aim::Auto => {
                 let e = self.aim_real(px, py, guess)?;
                 self.ray_through(e).ok_or_else(bad)
             }

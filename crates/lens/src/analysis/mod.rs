@@ -18,7 +18,7 @@ pub mod pattern;
 pub mod quadrature;
 pub mod spot;
 
-pub use launch::{Aim, Field, Launcher};
+pub use launch::{Aim, Field, Launcher, AUTO_TOLERANCE};
 
 /// Wavelength used for diffraction scales (Airy radius), mm: the helium d
 /// line, 587.56 nm, at which the shipped prescriptions' indices are given.

@@ -1,0 +1,139 @@
+//! Every flag shared by more than one subcommand, declared once: the
+//! prescription and its stop (`FILE`, `--f-number`), the object
+//! (`--object-distance`), the field (`--field-deg`), the aiming (`--aim`)
+//! and the outputs (`--json`, `--plot`). A subcommand flattens the groups it
+//! takes, so a flag is spelled, parsed and documented the same everywhere.
+
+use lens::analysis::fan::ImagePlane;
+use lens::analysis::Aim;
+use lens::paraxial::ObjectDistance;
+use std::path::PathBuf;
+
+/// The prescription and an optional new stop size.
+#[derive(clap::Args, Debug, Clone)]
+pub struct LensArgs {
+    /// Prescription file (.json or pbrt .dat).
+    pub file: PathBuf,
+    /// Resize the stop so the paraxial f-number (object at infinity) is N;
+    /// refused, naming the limiting surface, when the other clear
+    /// apertures cannot pass it.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub f_number: Option<f64>,
+}
+
+impl LensArgs {
+    /// Loads the prescription and resizes its stop if asked.
+    pub fn load(&self) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
+        let p = lens::Prescription::load(&self.file)?;
+        Ok(match self.f_number {
+            Some(n) => lens::analysis::aperture::with_f_number(&p, n)?,
+            None => p,
+        })
+    }
+
+    /// The prescription's name, or the file's when it has none.
+    pub fn name(&self, p: &lens::Prescription) -> String {
+        if p.name().is_empty() {
+            self.file.display().to_string()
+        } else {
+            p.name().to_string()
+        }
+    }
+}
+
+/// Where the object is.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ObjectArgs {
+    /// Object distance in mm in front of the first vertex (`inf` for
+    /// infinity, the default).
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    pub object_distance: Option<f64>,
+}
+
+impl ObjectArgs {
+    /// The object, infinity by default.
+    pub fn object(&self) -> Result<ObjectDistance, lens::OpticsError> {
+        ObjectDistance::from_mm(self.object_distance.unwrap_or(f64::INFINITY))
+    }
+}
+
+/// One field angle.
+#[derive(clap::Args, Debug, Clone)]
+pub struct FieldArgs {
+    /// Field angle in degrees (object at infinity).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, default_value_t = 0.0)]
+    pub field_deg: f64,
+}
+
+/// `--aim paraxial|real|auto`.
+#[derive(Clone, Copy, Debug, Default, clap::ValueEnum)]
+pub enum AimArg {
+    /// Paraxial aiming, unless it misses the stop, then real aiming.
+    #[default]
+    Auto,
+    /// Through the paraxial entrance pupil.
+    Paraxial,
+    /// Real rays aimed at the stop (Newton iteration).
+    Real,
+}
+
+/// How pupil coordinates become rays.
+#[derive(clap::Args, Debug, Clone)]
+pub struct AimArgs {
+    /// How pupil coordinates become rays: auto (paraxial where the paraxial
+    /// chief ray meets the stop near its centre, real otherwise),
+    /// paraxial, or real.
+    #[arg(long, value_enum, default_value_t = AimArg::Auto)]
+    pub aim: AimArg,
+}
+
+impl AimArgs {
+    /// The aiming for the library.
+    pub fn aim(&self) -> Aim {
+        match self.aim {
+            AimArg::Auto => Aim::Auto,
+            AimArg::Paraxial => Aim::Paraxial,
+            AimArg::Real => Aim::Real,
+        }
+    }
+}
+
+/// The image plane of an analysis.
+#[derive(clap::Args, Debug, Clone)]
+pub struct PlaneArgs {
+    /// Evaluate on a film this many mm behind the last vertex instead of the
+    /// paraxial image plane.
+    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
+    pub film: Option<f64>,
+}
+
+impl PlaneArgs {
+    /// The image plane: paraxial unless a film distance is given.
+    pub fn plane(&self) -> ImagePlane {
+        self.film.map_or(ImagePlane::Paraxial, ImagePlane::Film)
+    }
+}
+
+/// `--json`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct JsonArgs {
+    /// Print JSON (one object on one line) instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--plot OUT`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct PlotArgs {
+    /// Write a plot (.svg or .png).
+    #[arg(long, value_name = "OUT")]
+    pub plot: Option<PathBuf>,
+}
+
+/// Parses "a,b,c" into numbers; `inf` allowed.
+pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
+    s.split(',')
+        .filter(|t| !t.trim().is_empty())
+        .map(|t| t.trim().parse::<f64>().map_err(|_| format!("\"{t}\" is not a number")))
+        .collect()
+}

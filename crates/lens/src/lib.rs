@@ -40,4 +40,4 @@ pub use error::{LoadError, OpticsError};
 pub use glam::DVec3;
 pub use io::load_spec;
 pub use model::{Prescription, PrescriptionSpec, Surface, SurfaceSpec};
-pub use trace::{Direction, Outcome, Ray, RayBatch, Tracer};
+pub use trace::{Outcome, Ray, RayBatch, Tracer};

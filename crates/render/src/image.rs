@@ -42,11 +42,6 @@ pub fn srgb(x: f64) -> f64 {
 }
 
 impl Image {
-    /// Mean of every pixel.
-    pub fn mean(&self) -> DVec3 {
-        self.pixels.iter().copied().sum::<DVec3>() / self.pixels.len().max(1) as f64
-    }
-
     /// Root-mean-square difference from `other` (same size), over channels.
     pub fn rmse(&self, other: &Image) -> f64 {
         let n = (self.pixels.len() * 3).max(1) as f64;

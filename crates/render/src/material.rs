@@ -57,11 +57,6 @@ impl Material {
         }
     }
 
-    /// Whether light is sampled toward this surface (lights) / from it.
-    pub fn is_diffuse(&self) -> bool {
-        matches!(self, Material::Diffuse { .. } | Material::Checker { .. })
-    }
-
     /// Scattering at a hit with unit normal `n` (facing out of the shape),
     /// incoming direction `d` (toward the surface), texture coordinates `uv`.
     pub fn scatter(&self, d: DVec3, n: DVec3, uv: (f64, f64), s: &mut Sampler) -> Scatter {

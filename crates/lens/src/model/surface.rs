@@ -2,7 +2,7 @@
 
 /// A spherical (or plane) surface of a validated prescription.
 ///
-/// Conventions (see DESIGN.md): the surface is stored by its curvature
+/// Conventions (docs/architecture.md): the surface is stored by its curvature
 /// `c = 1/R` in 1/mm, positive when the centre of curvature lies on the image
 /// side (+z); a plane has `c = 0`. `thickness` is the axial distance in mm to
 /// the next surface's vertex (for the last surface: to the film). `ior` is the

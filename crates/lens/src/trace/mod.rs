@@ -17,4 +17,4 @@ pub mod tracer;
 pub use batch::RayBatch;
 pub use ray::{Outcome, Ray};
 pub use step::{intersect, refract, Hit};
-pub use tracer::{Direction, Tracer};
+pub use tracer::Tracer;

@@ -106,8 +106,8 @@ pub(crate) struct Approach<L> {
     pub disc: L,
 }
 
-/// Steps 1 to 3 of DESIGN.md's intersection with the sphere of curvature
-/// `c` (vertex at the origin).
+/// Steps 1 to 3 of the sphere intersection (docs/architecture.md) with
+/// the sphere of curvature `c` (vertex at the origin).
 #[inline(always)]
 pub(crate) fn approach<L: Real>(c: L, px: L, py: L, pz: L, dx: L, dy: L, dz: L) -> Approach<L> {
     // 1. closest approach to the vertex
@@ -245,7 +245,8 @@ pub(crate) fn snell_k<L: Real>(mu2: L, one_minus_mu2: L, cos2: L) -> L {
 }
 
 /// The refracted direction, branch-free, generic over one ray or several
-/// ([`Real`]), shared by the one-ray and the batch tracers:
+/// ([`Real`]), behind the one-ray [`refract`] (the tracers refract at the
+/// hit from the closest approach's normal instead, see `refract_at`):
 /// `d' = mu d + (sqrt(k) - mu cos_i) N`, with `mu = n1 / n2`, `cos = D . N`
 /// of either sign (the normal is turned along the ray by flipping signs with
 /// its sign bit) and `root_k` the square root of [`snell_k`] (of its positive

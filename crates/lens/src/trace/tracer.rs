@@ -9,16 +9,6 @@ use super::step::*;
 use crate::model::Prescription;
 use glam::DVec3;
 
-/// Which way rays travel through the prescription.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Direction {
-    /// From object space through surface 1 .. n to the film.
-    ObjectToImage,
-    /// From the film (or image space) through surface n .. 1 into object
-    /// space, as a renderer's camera rays do.
-    ImageToObject,
-}
-
 /// A prescription laid out for tracing in one direction. Cheap to build;
 /// build once and trace many rays.
 ///
@@ -36,7 +26,6 @@ pub enum Direction {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tracer {
     pub(crate) steps: Vec<Step>,
-    direction: Direction,
 }
 
 impl Tracer {
@@ -70,7 +59,7 @@ impl Tracer {
             refract: false,
             shape: PLANE,
         });
-        Tracer { steps, direction: Direction::ObjectToImage }
+        Tracer { steps }
     }
 
     /// From image space (the film) back to object space. The ray starts in
@@ -98,7 +87,7 @@ impl Tracer {
                 surface_step(&s[i], i, s[i].ior, p.index_before(i), shift, z[i])
             })
             .collect();
-        Tracer { steps, direction: Direction::ImageToObject }
+        Tracer { steps }
     }
 
     /// Object space to the stop surface, with no clear aperture clipping:
@@ -120,17 +109,6 @@ impl Tracer {
         let mut t = Tracer::forward(p);
         t.steps[p.stop_index()].sd2 = f64::INFINITY;
         t
-    }
-
-    /// Direction of travel.
-    pub fn direction(&self) -> Direction {
-        self.direction
-    }
-
-    /// Number of ray-surface steps per ray (surfaces, plus the film going
-    /// forward).
-    pub fn step_count(&self) -> usize {
-        self.steps.len()
     }
 
     /// Traces one ray (global frame) and classifies how it ended.

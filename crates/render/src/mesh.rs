@@ -3,11 +3,22 @@
 
 use glam::DVec3;
 
+/// A line of an OBJ file that cannot be read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("line {line}: {message}")]
+pub struct MeshError {
+    /// 1-based line.
+    pub line: usize,
+    /// What is wrong.
+    pub message: String,
+}
+
 /// Reads the triangles of an OBJ text. Errors name the line.
-pub fn parse_obj(text: &str) -> Result<Vec<[DVec3; 3]>, String> {
+pub fn parse_obj(text: &str) -> Result<Vec<[DVec3; 3]>, MeshError> {
     let mut verts = Vec::new();
     let mut tris = Vec::new();
     for (k, line) in text.lines().enumerate() {
+        let err = |message: String| MeshError { line: k + 1, message };
         let mut it = line.split_whitespace();
         match it.next() {
             Some("v") => {
@@ -15,9 +26,9 @@ pub fn parse_obj(text: &str) -> Result<Vec<[DVec3; 3]>, String> {
                     .take(3)
                     .map(|s| s.parse::<f64>())
                     .collect::<Result<_, _>>()
-                    .map_err(|_| format!("line {}: a vertex needs 3 numbers", k + 1))?;
+                    .map_err(|_| err("a vertex needs 3 numbers".into()))?;
                 if c.len() != 3 || !c.iter().all(|x| x.is_finite()) {
-                    return Err(format!("line {}: a vertex needs 3 finite numbers", k + 1));
+                    return Err(err("a vertex needs 3 finite numbers".into()));
                 }
                 verts.push(DVec3::new(c[0], c[1], c[2]));
             }
@@ -25,17 +36,17 @@ pub fn parse_obj(text: &str) -> Result<Vec<[DVec3; 3]>, String> {
                 let idx: Vec<usize> = it
                     .map(|s| {
                         let first = s.split('/').next().unwrap_or("");
-                        let i: i64 = first.parse().map_err(|_| format!("line {}: bad face index \"{s}\"", k + 1))?;
+                        let i: i64 = first.parse().map_err(|_| err(format!("bad face index \"{s}\"")))?;
                         // 1-based; negative counts from the end
                         let j = if i > 0 { i - 1 } else { verts.len() as i64 + i };
                         if j < 0 || j as usize >= verts.len() {
-                            return Err(format!("line {}: face index {i} does not name a vertex", k + 1));
+                            return Err(err(format!("face index {i} does not name a vertex")));
                         }
                         Ok(j as usize)
                     })
                     .collect::<Result<_, _>>()?;
                 if idx.len() < 3 {
-                    return Err(format!("line {}: a face needs at least 3 vertices", k + 1));
+                    return Err(err("a face needs at least 3 vertices".into()));
                 }
                 for w in 1..idx.len() - 1 {
                     tris.push([verts[idx[0]], verts[idx[w]], verts[idx[w + 1]]]);

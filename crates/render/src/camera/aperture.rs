@@ -1,6 +1,32 @@
 //! Aperture shapes: where on a unit aperture a sample lands.
 
 use crate::scene::format::ApertureSpec;
+use std::path::PathBuf;
+
+/// Why an aperture shape could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ApertureError {
+    /// A polygon with fewer than three blades.
+    #[error("blades = {blades}: a polygon needs at least 3 blades")]
+    Blades {
+        /// Blades given.
+        blades: u32,
+    },
+    /// A rotation that is not a finite angle.
+    #[error("rotation_deg must be a finite angle in degrees")]
+    Rotation,
+    /// A mask that transmits nothing.
+    #[error("the aperture mask transmits nothing: give an image with some white")]
+    Opaque,
+    /// A mask image that cannot be read.
+    #[error("{}: cannot read the mask: {message}", path.display())]
+    Read {
+        /// The image.
+        path: PathBuf,
+        /// The decoder's message.
+        message: String,
+    },
+}
 
 /// A grey-scale transmission image over [-1, 1]^2, sampled in proportion to
 /// its transmission.
@@ -17,7 +43,7 @@ pub struct Mask {
 impl Mask {
     /// From transmission values (row-major from the top). Errors when the
     /// image transmits nothing.
-    pub fn new(width: usize, height: usize, values: Vec<f64>) -> Result<Self, String> {
+    pub fn new(width: usize, height: usize, values: Vec<f64>) -> Result<Self, ApertureError> {
         let mut cdf = Vec::with_capacity(values.len());
         let mut acc = 0.0;
         for v in &values {
@@ -25,7 +51,7 @@ impl Mask {
             cdf.push(acc);
         }
         if width == 0 || height == 0 || acc <= 0.0 {
-            return Err("the aperture mask transmits nothing: give an image with some white".into());
+            return Err(ApertureError::Opaque);
         }
         Ok(Mask { width, height, values, cdf })
     }
@@ -74,16 +100,16 @@ pub enum Aperture {
 impl Aperture {
     /// From the scene spec; errors name the field. Mask images are read
     /// relative to `dir`.
-    pub fn from_spec(s: &ApertureSpec, dir: &std::path::Path) -> Result<Self, String> {
+    pub fn from_spec(s: &ApertureSpec, dir: &std::path::Path) -> Result<Self, ApertureError> {
         Ok(match *s {
             ApertureSpec::Mask { ref image } => Aperture::Mask(Box::new(load_mask(&dir.join(image))?)),
             ApertureSpec::Circle => Aperture::Circle,
             ApertureSpec::Polygon { blades, rotation_deg } => {
                 if blades < 3 {
-                    return Err(format!("aperture_shape.blades = {blades}: a polygon needs at least 3 blades"));
+                    return Err(ApertureError::Blades { blades });
                 }
                 if !rotation_deg.is_finite() {
-                    return Err("aperture_shape.rotation_deg must be a finite angle".into());
+                    return Err(ApertureError::Rotation);
                 }
                 Aperture::Polygon { blades, rotation: rotation_deg.to_radians() }
             }
@@ -192,14 +218,18 @@ pub fn concentric(u: (f64, f64)) -> (f64, f64) {
 
 /// Reads a grey-scale PNG mask (needs the `png` feature).
 #[cfg(feature = "png")]
-fn load_mask(path: &std::path::Path) -> Result<Mask, String> {
-    let img = image::open(path).map_err(|e| format!("{}: cannot read the mask: {e}", path.display()))?.to_luma8();
+fn load_mask(path: &std::path::Path) -> Result<Mask, ApertureError> {
+    let read = |message: String| ApertureError::Read { path: path.to_path_buf(), message };
+    let img = image::open(path).map_err(|e| read(e.to_string()))?.to_luma8();
     let (w, h) = (img.width() as usize, img.height() as usize);
     let values = img.pixels().map(|p| p.0[0] as f64 / 255.0).collect();
-    Mask::new(w, h, values).map_err(|e| format!("{}: {e}", path.display()))
+    Mask::new(w, h, values)
 }
 
 #[cfg(not(feature = "png"))]
-fn load_mask(path: &std::path::Path) -> Result<Mask, String> {
-    Err(format!("{}: aperture masks need the render crate's `png` feature", path.display()))
+fn load_mask(path: &std::path::Path) -> Result<Mask, ApertureError> {
+    Err(ApertureError::Read {
+        path: path.to_path_buf(),
+        message: "aperture masks need the render crate's `png` feature".into(),
+    })
 }

@@ -63,6 +63,20 @@ pub enum FieldError {
     /// The prescription could not be set up as asked.
     #[error(transparent)]
     Optics(#[from] lens::OpticsError),
+    /// The aperture shape could not be made.
+    #[error(transparent)]
+    Aperture(#[from] crate::camera::aperture::ApertureError),
+    /// A mesh file could not be read.
+    #[error("{}: {source}", path.display())]
+    Mesh {
+        /// The OBJ file.
+        path: std::path::PathBuf,
+        /// The line that could not be read.
+        source: crate::mesh::MeshError,
+    },
+    /// An environment image could not be read.
+    #[error(transparent)]
+    Image(#[from] crate::image::ImageError),
 }
 
 impl From<String> for FieldError {
@@ -278,8 +292,11 @@ impl Scene {
                     let p = dir.join(obj);
                     let text = std::fs::read_to_string(&p)
                         .map_err(|e| bad(field("obj"), format!("{}: cannot read: {e}", p.display())))?;
-                    let tris = crate::mesh::parse_obj(&text)
-                        .map_err(|e| bad(field("obj"), format!("{}: {e}", p.display())))?;
+                    let tris = crate::mesh::parse_obj(&text).map_err(|source| SceneError::Invalid {
+                        path: name.to_string(),
+                        field: field("obj"),
+                        source: FieldError::Mesh { path: p.clone(), source },
+                    })?;
                     if !(scale.is_finite() && *scale > 0.0) {
                         return Err(bad(field("scale"), "must be positive".into()));
                     }
@@ -309,7 +326,11 @@ impl Scene {
                 if !(intensity.is_finite() && *intensity >= 0.0) {
                     return Err(bad("background.intensity".into(), "must be a finite number >= 0".into()));
                 }
-                let mut img = load_environment(&dir.join(exr)).map_err(|m| bad("background.exr".into(), m))?;
+                let mut img = load_environment(&dir.join(exr)).map_err(|source| SceneError::Invalid {
+                    path: name.to_string(),
+                    field: "background.exr".into(),
+                    source,
+                })?;
                 for p in &mut img.pixels {
                     *p *= *intensity;
                 }
@@ -448,7 +469,7 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
                 radius: diameter / 2.0,
                 focus: lens_to_focus(*focus_distance, *focal_length_mm)?,
                 aperture: Aperture::from_spec(aperture_shape, dir)
-                    .map_err(|m| ("camera.aperture_shape".into(), m.into()))?,
+                    .map_err(|e| ("camera.aperture_shape".into(), e.into()))?,
                 focus_shift: *focus_shift,
             })
         }
@@ -474,7 +495,7 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
                     .map_err(|e| ("camera.stop_semi_diameter".to_string(), e.into()))?;
             }
             let aperture =
-                Aperture::from_spec(aperture_shape, dir).map_err(|m| ("camera.aperture_shape".into(), m.into()))?;
+                Aperture::from_spec(aperture_shape, dir).map_err(|e| ("camera.aperture_shape".into(), e.into()))?;
             let cam = RealLensCamera::new(pose(&c.pose())?, &lens, *focus_distance, *sensor_mm, aperture)
                 .map_err(|e| ("camera".to_string(), e.into()))?;
             Ok(Camera::Real(Box::new(cam)))
@@ -483,15 +504,15 @@ fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (
 }
 
 #[cfg(feature = "exr")]
-fn load_environment(path: &Path) -> Result<crate::image::Image, String> {
-    let img = crate::image::Image::load_exr(path).map_err(|e| e.to_string())?;
+fn load_environment(path: &Path) -> Result<crate::image::Image, FieldError> {
+    let img = crate::image::Image::load_exr(path)?;
     if img.pixels.iter().any(|p| !p.is_finite() || p.min_element() < 0.0) {
-        return Err(format!("{}: the environment has negative or non-finite pixels", path.display()));
+        return Err(format!("{}: the environment has negative or non-finite pixels", path.display()).into());
     }
     Ok(img)
 }
 
 #[cfg(not(feature = "exr"))]
-fn load_environment(path: &Path) -> Result<crate::image::Image, String> {
-    Err(format!("{}: environment maps need the render crate's `exr` feature", path.display()))
+fn load_environment(path: &Path) -> Result<crate::image::Image, FieldError> {
+    Err(format!("{}: environment maps need the render crate's `exr` feature", path.display()).into())
 }

@@ -95,13 +95,7 @@ fn malformed_json_gets_line_and_column_and_unknown_fields_are_named() {
 
 #[test]
 fn pbrt_dat_import_of_the_reference_lenses() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/reference/pbrt-lenses");
-    if !dir.is_dir() {
-        // The reference files live beside the checkout (not in the repo).
-        assert!(std::env::var_os("CI").is_none(), "CI must have {}", dir.display());
-        eprintln!("skipped: {} not found", dir.display());
-        return;
-    }
+    let dir = common::data_dir().join("pbrt");
     for (dat, json) in [
         ("dgauss.50mm.dat", "double-gauss-50mm.json"),
         ("wide.22mm.dat", "wide-angle-22mm.json"),

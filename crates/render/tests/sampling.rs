@@ -145,3 +145,19 @@ fn thin_lens_bokeh_disc_is_round_at_4_spp() {
 fn real_lens_bokeh_disc_is_round_at_4_spp() {
     disc_is_round(REAL, "real lens");
 }
+
+#[test]
+fn shaped_apertures_are_unbiased_at_4_spp() {
+    let thin = |shape: &str| {
+        format!(
+            r#"{{"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 20,
+                "aperture": 0.1, "focus_distance": 2.0, "aperture_shape": {shape}}}"#
+        )
+    };
+    let hexagon = r#"{"shape": "polygon", "blades": 6, "rotation_deg": 10}"#;
+    let mask = r#"{"shape": "mask", "image": "masks/star.png"}"#;
+    edge_is_unbiased(&thin(hexagon), "thin lens, hexagonal aperture");
+    edge_is_unbiased(&thin(mask), "thin lens, star mask");
+    let real = REAL.replace("\"sensor_mm\"", &format!("\"aperture_shape\": {hexagon}, \"sensor_mm\""));
+    edge_is_unbiased(&real, "real lens, hexagonal stop");
+}

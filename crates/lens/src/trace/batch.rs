@@ -5,6 +5,12 @@
 //! one-ray path. Either way the results are bit-for-bit those of
 //! [`Tracer::trace`]: both run the same per-surface kernel, written once
 //! over the lane type of `lanes.rs`.
+//!
+//! Longer than most files (about 670 lines) on purpose: the batch's data
+//! (`RayBatch`), its chunk buffers and the two AVX2 drivers (structure of
+//! arrays, slice of rays) share the chunk's layout and its invariants
+//! (idle lanes, statuses, the frame of each buffer), which read best in one
+//! place.
 
 #[cfg(target_arch = "x86_64")]
 use super::avx2::F64x4;

@@ -1,11 +1,11 @@
 //! A scene ready to render: shapes with materials, lights, background and
 //! camera, built from a scene file with every problem reported by field.
 
+mod camera;
 pub mod format;
 
 use crate::bvh::{Bvh, BVH_THRESHOLD};
-use crate::camera::aperture::Aperture;
-use crate::camera::{real_lens::RealLensCamera, Camera, CameraError, Frame};
+use crate::camera::{Camera, CameraError};
 use crate::geometry::{Hit, Ray, Shape};
 use crate::material::Material;
 use format::*;
@@ -340,7 +340,7 @@ impl Scene {
                 Background::Sky { horizon: v3(*horizon), zenith: v3(*zenith), ground: v3(*ground) }
             }
         };
-        let camera = build_camera(&file.camera, f, dir).map_err(|(field, source)| SceneError::Invalid {
+        let camera = camera::build_camera(&file.camera, f, dir).map_err(|(field, source)| SceneError::Invalid {
             path: name.to_string(),
             field,
             source,
@@ -392,114 +392,6 @@ impl Scene {
         let len = d.length();
         let r = Ray { origin: a, dir: d / len };
         self.intersect(&r, crate::geometry::EPS * (1.0 + a.abs().max_element()), len * (1.0 - 1e-7)).is_none()
-    }
-}
-
-/// The thin lens's distance to the plane in focus, from the distance `d`
-/// (m) measured from the film: with a focal length f, object and image
-/// distances s + s' = d and 1/s + 1/s' = 1/f give s = (d + sqrt(d (d - 4f))) / 2.
-fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<f64, (String, FieldError)> {
-    let Some(f_mm) = focal_length_mm else { return Ok(d) };
-    let f = f_mm * 1e-3;
-    if !(f.is_finite() && f > 0.0) {
-        return Err(("camera.focal_length_mm".into(), "must be a positive focal length in mm".into()));
-    }
-    if d < 4.0 * f {
-        return Err((
-            "camera.focus_distance".into(),
-            format!("{d} m from the film: a {f_mm} mm thin lens cannot focus nearer than 4f = {} m", 4.0 * f).into(),
-        ));
-    }
-    Ok(0.5 * (d + (d * (d - 4.0 * f)).sqrt()))
-}
-
-fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (String, FieldError)> {
-    let aspect = film.width as f64 / film.height as f64;
-    let pose = |p: &Pose| -> Result<Frame, (String, FieldError)> {
-        if ![p.position, p.look_at, p.up].iter().flatten().all(|x| x.is_finite()) {
-            return Err(("camera".into(), "position, look_at and up must be finite".into()));
-        }
-        Frame::look_at(v3(p.position), v3(p.look_at), v3(p.up)).map_err(|e| ("camera.look_at".into(), e.into()))
-    };
-    let fov = |f: f64| -> Result<f64, (String, FieldError)> {
-        if f.is_finite() && f > 0.0 && f < 180.0 {
-            Ok((f.to_radians() / 2.0).tan())
-        } else {
-            Err(("camera.fov_deg".into(), format!("{f}: a field of view between 0 and 180 degrees").into()))
-        }
-    };
-    match c {
-        CameraSpec::Pinhole { fov_deg, .. } => {
-            Ok(Camera::Pinhole { frame: pose(&c.pose())?, tan_half: fov(*fov_deg)?, aspect })
-        }
-        CameraSpec::ThinLens {
-            fov_deg,
-            aperture,
-            f_number,
-            focal_length_mm,
-            focus_distance,
-            aperture_shape,
-            focus_shift,
-            ..
-        } => {
-            let diameter = match (aperture, f_number, focal_length_mm) {
-                (Some(a), None, _) => *a,
-                (None, Some(n), Some(f)) => f / n * 1e-3,
-                (None, None, _) => 0.0,
-                _ => {
-                    return Err((
-                        "camera.aperture".into(),
-                        "give either aperture (m) or f_number with focal_length_mm".into(),
-                    ))
-                }
-            };
-            if !(diameter.is_finite() && diameter >= 0.0) {
-                return Err(("camera.aperture".into(), format!("{diameter}: a diameter >= 0 m").into()));
-            }
-            if !(focus_distance.is_finite() && *focus_distance > 0.0) {
-                return Err(("camera.focus_distance".into(), "must be a positive distance in m".into()));
-            }
-            if !(focus_shift.is_finite() && (0.0..1.0).contains(focus_shift)) {
-                return Err(("camera.focus_shift".into(), "must be in [0, 1)".into()));
-            }
-            Ok(Camera::ThinLens {
-                frame: pose(&c.pose())?,
-                tan_half: fov(*fov_deg)?,
-                aspect,
-                radius: diameter / 2.0,
-                focus: lens_to_focus(*focus_distance, *focal_length_mm)?,
-                aperture: Aperture::from_spec(aperture_shape, dir)
-                    .map_err(|e| ("camera.aperture_shape".into(), e.into()))?,
-                focus_shift: *focus_shift,
-            })
-        }
-        CameraSpec::Lens {
-            prescription,
-            f_number,
-            stop_semi_diameter,
-            focus_distance,
-            sensor_mm,
-            aperture_shape,
-            ..
-        } => {
-            let path = dir.join(prescription);
-            let mut lens =
-                lens::Prescription::load(&path).map_err(|e| ("camera.prescription".to_string(), e.into()))?;
-            if let Some(n) = f_number {
-                lens = lens::analysis::aperture::with_f_number(&lens, *n)
-                    .map_err(|e| ("camera.f_number".to_string(), e.into()))?;
-            }
-            if let Some(sd) = stop_semi_diameter {
-                lens = lens
-                    .with_stop_semi_diameter(*sd)
-                    .map_err(|e| ("camera.stop_semi_diameter".to_string(), e.into()))?;
-            }
-            let aperture =
-                Aperture::from_spec(aperture_shape, dir).map_err(|e| ("camera.aperture_shape".into(), e.into()))?;
-            let cam = RealLensCamera::new(pose(&c.pose())?, &lens, *focus_distance, *sensor_mm, aperture)
-                .map_err(|e| ("camera".to_string(), e.into()))?;
-            Ok(Camera::Real(Box::new(cam)))
-        }
     }
 }
 

@@ -34,23 +34,30 @@
 //! (uniform over the region), so the estimator is unbiased as long as the
 //! region contains every passing target, which the growth margins see to.
 
+mod cells;
+mod shape;
+mod star;
+
 use super::aperture::Aperture;
+use cells::cells_bin;
 use lens::{DVec3, Prescription, RayBatch, Tracer};
 use rayon::prelude::*;
+use shape::stop_bin;
+use star::star_bin;
 
 /// A point of the rear plane or the stop, mm.
-type Point = (f64, f64);
+pub(super) type Point = (f64, f64);
 /// A box: x min, x max, y min, y max, mm.
-type Bounds = [f64; 4];
+pub(super) type Bounds = [f64; 4];
 
 /// Radial bins of the bounds.
 const BINS: usize = 96;
 /// Probes across the rear element when finding a bin's box.
 const COARSE: usize = 32;
 /// Cells across a bin's box.
-const CELLS: usize = 32;
+pub(super) const CELLS: usize = 32;
 /// Sub-cells across an edge cell.
-const SUB: usize = 8;
+pub(super) const SUB: usize = 8;
 /// Film radii probed per bin (its two edges and its middle).
 const RADII: usize = 3;
 
@@ -129,7 +136,7 @@ pub struct PupilTables {
 /// The lens traced in two parts for probing: film to the stop (round stop
 /// clipping), then on to object space; a probe passes when it gets through
 /// both, and its stop point is where the first part left it.
-struct Probe {
+pub(super) struct Probe {
     whole: Tracer,
     to_stop: Tracer,
     rest: Option<Tracer>,
@@ -164,7 +171,7 @@ impl Probe {
     /// For every film radius in `radii` (film point on +x) and target in
     /// `targets`: the stop point (mm, lens frame) where the ray passes,
     /// indexed `[radius][target]`.
-    fn stop_points(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<Vec<Option<(f64, f64)>>> {
+    pub(super) fn stop_points(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<Vec<Option<(f64, f64)>>> {
         let mut batch = RayBatch::with_capacity(targets.len());
         radii
             .iter()
@@ -182,7 +189,7 @@ impl Probe {
 
     /// Whether the ray toward each target passes, for each film radius of
     /// `radii` (film points on +x), indexed `[radius][target]`.
-    fn passes_each(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<Vec<bool>> {
+    pub(super) fn passes_each(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<Vec<bool>> {
         let mut batch = RayBatch::with_capacity(targets.len());
         radii
             .iter()
@@ -196,7 +203,7 @@ impl Probe {
 
     /// Whether the ray toward each target passes from any film radius of
     /// `radii` (film points on +x).
-    fn passes(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<bool> {
+    pub(super) fn passes(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<bool> {
         let mut batch = RayBatch::with_capacity(targets.len());
         let mut any = vec![false; targets.len()];
         for &r in radii {
@@ -314,12 +321,12 @@ impl PupilTables {
 /// The probes' box: targets on a `COARSE` grid over the rear element, and
 /// the box of those through which any of `radii` passes, grown by a probe
 /// step. `None` when nothing passes.
-fn passing_box(probe: &Probe, radii: &[f64], rear: f64) -> Option<[f64; 4]> {
+pub(super) fn passing_box(probe: &Probe, radii: &[f64], rear: f64) -> Option<[f64; 4]> {
     passing_probes(probe, radii, rear).map(|(b, _)| b)
 }
 
 /// [`passing_box`] and the probe targets that passed.
-fn passing_probes(probe: &Probe, radii: &[f64], rear: f64) -> Option<(Bounds, Vec<Point>)> {
+pub(super) fn passing_probes(probe: &Probe, radii: &[f64], rear: f64) -> Option<(Bounds, Vec<Point>)> {
     let step = 2.0 * rear / COARSE as f64;
     let mut targets: Vec<(f64, f64)> = (0..=COARSE)
         .flat_map(|j| (0..=COARSE).map(move |i| (-rear + step * i as f64, -rear + step * j as f64)))
@@ -352,266 +359,6 @@ fn passing_probes(probe: &Probe, radii: &[f64], rear: f64) -> Option<(Bounds, Ve
     // grown by a probe step of whichever grid found the edge
     let grow = step.min((b[1] - b[0]).max(b[3] - b[2]).max(f64::MIN_POSITIVE));
     b[0].is_finite().then_some(([b[0] - grow, b[1] + grow, b[2] - grow, b[3] + grow], passed))
-}
-
-/// Directions of a star-shaped region's boundary.
-const DIRECTIONS: usize = 256;
-/// Bisection steps along each direction (to 1/4096 of the box).
-const BISECTIONS: usize = 12;
-
-/// The star-shaped bounds of one bin (see the module's description), or
-/// `None` where the region is not star-shaped about the passing probes'
-/// centroid for every film radius of the bin (the cells take over).
-fn star_bin(probe: &Probe, radii: &[f64], rear: f64) -> Option<PupilBounds> {
-    let (b, passed) = passing_probes(probe, radii, rear)?;
-    let n = passed.len() as f64;
-    let c = passed.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
-    // every film radius must pass at the centre
-    if probe.passes_each(radii, &[c]).iter().any(|p| !p[0]) {
-        return None;
-    }
-    let reach = (b[0] - c.0).abs().max((b[1] - c.0).abs()).hypot((b[2] - c.1).abs().max((b[3] - c.1).abs()));
-    let dirs: Vec<(f64, f64)> = (0..DIRECTIONS)
-        .map(|k| (std::f64::consts::TAU * k as f64 / DIRECTIONS as f64).sin_cos())
-        .map(|(s, co)| (co, s))
-        .collect();
-    // bisection along every direction for every radius at once: lo passes,
-    // hi (the box's far corner) does not
-    let mut lo = vec![vec![0.0; DIRECTIONS]; radii.len()];
-    let mut hi = vec![vec![reach; DIRECTIONS]; radii.len()];
-    let at = |d: &(f64, f64), t: f64| (c.0 + d.0 * t, c.1 + d.1 * t);
-    let outer: Vec<(f64, f64)> = dirs.iter().map(|d| at(d, reach)).collect();
-    if probe.passes_each(radii, &outer).iter().flatten().any(|p| *p) {
-        return None;
-    }
-    for _ in 0..BISECTIONS {
-        for (ri, &r) in radii.iter().enumerate() {
-            let mids: Vec<(f64, f64)> =
-                dirs.iter().enumerate().map(|(k, d)| at(d, 0.5 * (lo[ri][k] + hi[ri][k]))).collect();
-            let pass = &probe.passes_each(&[r], &mids)[0];
-            for k in 0..DIRECTIONS {
-                let mid = 0.5 * (lo[ri][k] + hi[ri][k]);
-                if pass[k] {
-                    lo[ri][k] = mid;
-                } else {
-                    hi[ri][k] = mid;
-                }
-            }
-        }
-    }
-    // the region's radius per direction: the largest over the bin's film
-    // radii, grown for the film radii between them (a quarter of their
-    // spread), for the boundary between directions (the neighbours' largest,
-    // over the cosine of half the step) and by half a percent
-    let half_step = std::f64::consts::PI / DIRECTIONS as f64;
-    let radius: Vec<f64> = (0..DIRECTIONS)
-        .map(|k| {
-            let spread = |k: usize| {
-                let v: Vec<f64> = hi.iter().map(|h| h[k]).collect();
-                let (mx, mn) = v.iter().fold((0.0f64, f64::INFINITY), |a, x| (a.0.max(*x), a.1.min(*x)));
-                mx + 0.25 * (mx - mn)
-            };
-            let around = [(k + DIRECTIONS - 1) % DIRECTIONS, k, (k + 1) % DIRECTIONS].map(spread);
-            around.iter().fold(0.0f64, |a, x| a.max(*x)) * 1.005 / half_step.cos()
-        })
-        .collect();
-    // the passing probes must all lie inside the polygon
-    let inside = |p: &(f64, f64)| {
-        let (dx, dy) = (p.0 - c.0, p.1 - c.1);
-        let t = dy.atan2(dx).rem_euclid(std::f64::consts::TAU) / (2.0 * half_step);
-        let k = (t as usize).min(DIRECTIONS - 1);
-        let r = radius[k].min(radius[(k + 1) % DIRECTIONS]);
-        dx.hypot(dy) <= r * half_step.cos()
-    };
-    if !passed.iter().all(inside) {
-        return None;
-    }
-    let wedge = (2.0 * half_step).sin() / 2.0;
-    let areas: Vec<f64> = (0..DIRECTIONS).map(|k| wedge * radius[k] * radius[(k + 1) % DIRECTIONS]).collect();
-    let corners = (0..DIRECTIONS).map(|k| [dirs[k].0 * radius[k], dirs[k].1 * radius[k]]).collect();
-    Some(PupilBounds::Star { centre: [c.0, c.1], corners, area: areas.iter().sum(), alias: alias_table(&areas) })
-}
-
-/// Walker's alias table (Vose's construction) for choosing index k with
-/// probability `w[k] / sum(w)`: entry j keeps j with its probability and
-/// otherwise gives its alias.
-fn alias_table(w: &[f64]) -> Vec<(f64, u32)> {
-    let n = w.len();
-    let total: f64 = w.iter().sum();
-    let mut p: Vec<f64> = w.iter().map(|x| x * n as f64 / total).collect();
-    let mut table = vec![(1.0, 0u32); n];
-    let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&k| p[k] < 1.0);
-    while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
-        table[s] = (p[s], l as u32);
-        p[l] -= 1.0 - p[s];
-        if p[l] < 1.0 {
-            large.pop();
-            small.push(l);
-        }
-    }
-    for k in small.into_iter().chain(large) {
-        table[k] = (1.0, k as u32);
-    }
-    table
-}
-
-/// The cells of one bin (see the module's description).
-fn cells_bin(probe: &Probe, radii: &[f64], rear: f64) -> PupilBounds {
-    let Some(b) = passing_box(probe, radii, rear) else { return PupilBounds::Empty };
-    let side = (b[1] - b[0]).max(b[3] - b[2]);
-    let (x0, y0) = (b[0], b[2]);
-    let fine = CELLS * SUB;
-    let h = side / fine as f64;
-    // corners on the fine grid, (fine + 1)^2 of them; probed: the corners
-    // of the coarse cells, then every corner of the edge cells
-    let w = fine + 1;
-    let mut known = vec![false; w * w];
-    let mut pass = vec![false; w * w];
-    let run = |idx: &[usize], known: &mut Vec<bool>, pass: &mut Vec<bool>| {
-        let todo: Vec<usize> = idx.iter().copied().filter(|&k| !known[k]).collect();
-        let targets: Vec<(f64, f64)> =
-            todo.iter().map(|&k| (x0 + h * (k % w) as f64, y0 + h * (k / w) as f64)).collect();
-        for (&k, p) in todo.iter().zip(probe.passes(radii, &targets)) {
-            known[k] = true;
-            pass[k] = p;
-        }
-    };
-    let corner = |ci: usize, cj: usize| cj * SUB * w + ci * SUB;
-    let coarse: Vec<usize> = (0..=CELLS).flat_map(|j| (0..=CELLS).map(move |i| corner(i, j))).collect();
-    run(&coarse, &mut known, &mut pass);
-    let cell_corners =
-        |ci: usize, cj: usize| [corner(ci, cj), corner(ci + 1, cj), corner(ci, cj + 1), corner(ci + 1, cj + 1)];
-    let hit: Vec<bool> =
-        (0..CELLS * CELLS).map(|k| cell_corners(k % CELLS, k / CELLS).iter().any(|&c| pass[c])).collect();
-    let near_hit = |ci: usize, cj: usize| {
-        (cj.saturating_sub(1)..=(cj + 1).min(CELLS - 1))
-            .any(|j| (ci.saturating_sub(1)..=(ci + 1).min(CELLS - 1)).any(|i| hit[j * CELLS + i]))
-    };
-    // whole cells: every corner passes and so do the cells around; edge
-    // cells: the rest of those near a passing corner
-    let mut whole = vec![false; CELLS * CELLS];
-    let mut edge = vec![false; CELLS * CELLS];
-    for cj in 0..CELLS {
-        for ci in 0..CELLS {
-            if !near_hit(ci, cj) {
-                continue;
-            }
-            let all = cell_corners(ci, cj).iter().all(|&c| pass[c]);
-            let around = (cj.saturating_sub(1)..=(cj + 1).min(CELLS - 1))
-                .all(|j| (ci.saturating_sub(1)..=(ci + 1).min(CELLS - 1)).all(|i| hit[j * CELLS + i]));
-            if all && around && ci > 0 && cj > 0 && ci + 1 < CELLS && cj + 1 < CELLS {
-                whole[cj * CELLS + ci] = true;
-            } else {
-                edge[cj * CELLS + ci] = true;
-            }
-        }
-    }
-    let mut fine_corners = Vec::new();
-    for k in (0..CELLS * CELLS).filter(|&k| edge[k]) {
-        let (ci, cj) = (k % CELLS, k / CELLS);
-        for j in 0..=SUB {
-            for i in 0..=SUB {
-                fine_corners.push((cj * SUB + j) * w + ci * SUB + i);
-            }
-        }
-    }
-    run(&fine_corners, &mut known, &mut pass);
-    // a corner inside a whole cell counts as passing
-    let passes = |fx: usize, fy: usize| {
-        let k = fy * w + fx;
-        pass[k] || {
-            let (ci, cj) = ((fx / SUB).min(CELLS - 1), (fy / SUB).min(CELLS - 1));
-            whole[cj * CELLS + ci] && !fx.is_multiple_of(SUB) && !fy.is_multiple_of(SUB)
-        }
-    };
-    let big = side / CELLS as f64;
-    let (mut whole_cells, mut sub) = (Vec::new(), Vec::new());
-    for k in 0..CELLS * CELLS {
-        let (ci, cj) = (k % CELLS, k / CELLS);
-        if whole[k] {
-            whole_cells.push([x0 + big * ci as f64, y0 + big * cj as f64]);
-        } else if edge[k] {
-            for j in 0..SUB {
-                for i in 0..SUB {
-                    let (fx, fy) = (ci * SUB + i, cj * SUB + j);
-                    // kept when a passing corner lies within one sub-cell
-                    let keep = (fy.saturating_sub(1)..=(fy + 2).min(fine))
-                        .any(|y| (fx.saturating_sub(1)..=(fx + 2).min(fine)).any(|x| passes(x, y)));
-                    if keep {
-                        sub.push([x0 + h * fx as f64, y0 + h * fy as f64]);
-                    }
-                }
-            }
-        }
-    }
-    if whole_cells.is_empty() && sub.is_empty() {
-        return PupilBounds::Empty;
-    }
-    PupilBounds::Cells { whole: whole_cells, whole_side: big, sub, sub_side: h }
-}
-
-/// The shaped-stop bounds of one bin (see the module's description).
-fn stop_bin(probe: &Probe, radii: &[f64], rear: f64, shape: &Aperture, sd: f64) -> PupilBounds {
-    let Some(b) = passing_box(probe, radii, rear) else { return PupilBounds::Empty };
-    let n = 24;
-    let targets: Vec<(f64, f64)> = (0..=n)
-        .flat_map(|j| {
-            (0..=n)
-                .map(move |i| (b[0] + (b[1] - b[0]) * i as f64 / n as f64, b[2] + (b[3] - b[2]) * j as f64 / n as f64))
-        })
-        .collect();
-    let hits = probe.stop_points(radii, &targets);
-    // least squares s = A t + c over every passing probe of every radius
-    let pairs: Vec<((f64, f64), (f64, f64))> =
-        hits.iter().flat_map(|h| targets.iter().zip(h).filter_map(|(t, s)| s.map(|s| (*t, s)))).collect();
-    if pairs.len() < 3 {
-        return PupilBounds::Empty;
-    }
-    let Some((a, c)) = fit_affine(&pairs) else { return PupilBounds::Empty };
-    let det = a[0] * a[3] - a[1] * a[2];
-    if !(det.is_finite() && det.abs() > 0.0) {
-        return PupilBounds::Empty;
-    }
-    let inverse = [a[3] / det, -a[1] / det, -a[2] / det, a[0] / det];
-    // the worst miss of the fit over the passing probes, and a probe step
-    // of slack for the passing region between probes
-    let worst = pairs
-        .iter()
-        .map(|((tx, ty), (sx, sy))| (a[0] * tx + a[1] * ty + c[0] - sx).hypot(a[2] * tx + a[3] * ty + c[1] - sy))
-        .fold(0.0f64, f64::max);
-    let step = (b[1] - b[0]).max(b[3] - b[2]) / n as f64 * det.abs().sqrt();
-    let margin = 1.5 * worst + 0.05 * step + 1e-6 * sd;
-    let scale = 1.0 + margin / (sd * shape.inradius());
-    let area = shape.proposal_area() * (scale * sd).powi(2) / det.abs();
-    PupilBounds::Stop { inverse, offset: c, scale, area }
-}
-
-/// Least-squares affine map s = A t + c from pairs (t, s): A row-major.
-fn fit_affine(pairs: &[(Point, Point)]) -> Option<([f64; 4], [f64; 2])> {
-    let n = pairs.len() as f64;
-    let (mut mt, mut ms) = ((0.0, 0.0), (0.0, 0.0));
-    for ((tx, ty), (sx, sy)) in pairs {
-        mt = (mt.0 + tx / n, mt.1 + ty / n);
-        ms = (ms.0 + sx / n, ms.1 + sy / n);
-    }
-    let (mut sxx, mut sxy, mut syy) = (0.0, 0.0, 0.0);
-    let (mut bx, mut by) = ((0.0, 0.0), (0.0, 0.0));
-    for ((tx, ty), (sx, sy)) in pairs {
-        let (dx, dy) = (tx - mt.0, ty - mt.1);
-        let (ex, ey) = (sx - ms.0, sy - ms.1);
-        sxx += dx * dx;
-        sxy += dx * dy;
-        syy += dy * dy;
-        bx = (bx.0 + dx * ex, bx.1 + dy * ex);
-        by = (by.0 + dx * ey, by.1 + dy * ey);
-    }
-    let m = nalgebra::Matrix2::new(sxx, sxy, sxy, syy);
-    let inv = m.try_inverse()?;
-    let rx = inv * nalgebra::Vector2::new(bx.0, bx.1);
-    let ry = inv * nalgebra::Vector2::new(by.0, by.1);
-    let a = [rx[0], rx[1], ry[0], ry[1]];
-    let c = [ms.0 - a[0] * mt.0 - a[1] * mt.1, ms.1 - a[2] * mt.0 - a[3] * mt.1];
-    a.iter().chain(&c).all(|v| v.is_finite()).then_some((a, c))
 }
 
 impl PupilTables {

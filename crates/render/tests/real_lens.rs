@@ -118,10 +118,11 @@ fn a_triangular_stop_makes_triangular_bokeh() {
 /// cell bounds) and for a shaped stop (the stop's shape mapped back).
 #[test]
 fn pupil_bounds_lose_no_light() {
-    for (fno, shape) in [
-        (2.0, r#"{"shape": "circle"}"#),
-        (8.0, r#"{"shape": "circle"}"#),
-        (2.8, r#"{"shape": "polygon", "blades": 6}"#),
+    for (fno, shape, blades) in [
+        (2.0, r#"{"shape": "circle"}"#, 0),
+        (8.0, r#"{"shape": "circle"}"#, 0),
+        (2.8, r#"{"shape": "polygon", "blades": 6}"#, 6),
+        (2.0, r#"{"shape": "polygon", "blades": 3, "rotation_deg": 90}"#, 3),
     ] {
         let cam = format!(
             r#"{{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "../double-gauss-50mm.json",
@@ -136,11 +137,13 @@ fn pupil_bounds_lose_no_light() {
         let sd = p.stop_semi_diameter();
         let inside_shape = |at: Option<DVec3>| match at {
             None => false,
-            Some(q) if shape.contains("polygon") => {
+            Some(q) if blades > 0 => {
                 let (x, y) = (q.x / sd, q.y / sd);
-                (0..6).all(|k| {
-                    let mid = std::f64::consts::TAU * (k as f64 + 0.5) / 6.0;
-                    x * mid.cos() + y * mid.sin() <= (std::f64::consts::PI / 6.0).cos()
+                let rotation = if blades == 3 { 90f64.to_radians() } else { 0.0 };
+                let n = blades as f64;
+                (0..blades).all(|k| {
+                    let mid = rotation + std::f64::consts::TAU * (k as f64 + 0.5) / n;
+                    x * mid.cos() + y * mid.sin() <= (std::f64::consts::PI / n).cos()
                 })
             }
             Some(_) => true,

@@ -192,6 +192,31 @@ impl Aperture {
         }
     }
 
+    /// The corners of the convex region [`Self::sample_uniform`] draws from,
+    /// counter-clockwise, at unit scale: the polygon's, or the mask's
+    /// square (a circle has none).
+    pub fn outline(&self) -> Vec<(f64, f64)> {
+        match *self {
+            Aperture::Circle => Vec::new(),
+            Aperture::Polygon { blades, rotation } => (0..blades)
+                .map(|k| {
+                    let a = rotation + std::f64::consts::TAU * k as f64 / blades as f64;
+                    (a.cos(), a.sin())
+                })
+                .collect(),
+            Aperture::Mask(_) => vec![(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)],
+        }
+    }
+
+    /// The turn that maps the shape onto itself, radians: 2 pi / blades for
+    /// a polygon, a whole turn for a mask.
+    pub fn period(&self) -> f64 {
+        match *self {
+            Aperture::Polygon { blades, .. } => std::f64::consts::TAU / blades as f64,
+            _ => std::f64::consts::TAU,
+        }
+    }
+
     /// Radius of the largest circle about the centre inside that region
     /// (the polygon's apothem; 1 for the circle and the mask's square).
     pub fn inradius(&self) -> f64 {

@@ -13,7 +13,7 @@
 //! mask's transmission), and rays that do not pass have weight 0.
 
 use super::aperture::Aperture;
-use super::pupil::{PupilBounds, PupilTables};
+use super::pupil::PupilTables;
 use super::{CameraError, CameraSample, Frame};
 use crate::geometry::Ray;
 use lens::{DVec3, Prescription, RayBatch, Tracer};
@@ -164,13 +164,13 @@ impl RealLensCamera {
     }
 
     /// The lens-frame film point and rear-plane target of a sample, and the
-    /// bounds it was drawn from.
-    fn target(&self, s: &CameraSample) -> Option<(DVec3, DVec3, &PupilBounds)> {
+    /// area of the region the target was drawn from (mm^2).
+    fn target(&self, s: &CameraSample) -> Option<(DVec3, DVec3, f64)> {
         // the lens inverts the image: film point opposite the scene point
         let fx = -(s.film.0 - 0.5) * self.sensor[0];
         let fy = -(0.5 - s.film.1) * self.sensor[1];
-        let (bounds, (bx, by)) = self.tables.sample(fx, fy, s.aperture)?;
-        Some((DVec3::new(fx, fy, self.z_film), DVec3::new(bx, by, self.z_rear), bounds))
+        let (area, (bx, by)) = self.tables.sample(fx, fy, s.aperture)?;
+        Some((DVec3::new(fx, fy, self.z_film), DVec3::new(bx, by, self.z_rear), area))
     }
 
     /// Traces `samples` and hands each passing ray (lens frame, leaving the
@@ -192,7 +192,7 @@ impl RealLensCamera {
                 let aimed = self.target(s).and_then(|(f, to, b)| {
                     let dir = to - f;
                     let len2 = dir.length_squared();
-                    (len2 > 0.0 && len2.is_finite()).then(|| (f, dir / len2.sqrt(), b.area()))
+                    (len2 > 0.0 && len2.is_finite()).then(|| (f, dir / len2.sqrt(), b))
                 });
                 match aimed {
                     Some((origin, direction, area)) => {

@@ -35,8 +35,11 @@
 //! region contains every passing target, which the growth margins see to.
 
 mod cells;
+mod fan;
 mod shape;
 mod star;
+
+pub use fan::Fan;
 
 use super::aperture::Aperture;
 use cells::cells_bin;
@@ -80,20 +83,18 @@ pub enum PupilBounds {
         /// Side of the sub-cells, mm.
         sub_side: f64,
     },
-    /// A star-shaped polygon about `centre` for a film point on +x, drawn
-    /// from by choosing one of its triangles (centre and two neighbouring
-    /// corners) in proportion to its area.
-    Star {
-        /// The centre, mm.
-        centre: [f64; 2],
-        /// The corners relative to the centre, mm, by angle.
-        corners: Vec<[f64; 2]>,
-        /// Alias table over the triangles (probability of keeping the
-        /// triangle, the other one), for a choice in proportion to area in
-        /// constant time.
-        alias: Vec<(f64, u32)>,
-        /// Total area, mm^2.
-        area: f64,
+    /// A star-shaped polygon for a film point on +x (round stop).
+    Star(Fan),
+    /// For a shaped stop: for each of `buckets.len()` slices of the film
+    /// point's azimuth over the shape's period of symmetry, the round-stop
+    /// polygon clipped by the stop's shape mapped back (for a film point on
+    /// +x; the shape turns against the film point).
+    Shaped {
+        /// The shape's period of symmetry, radians (2 pi / blades for a
+        /// polygon).
+        period: f64,
+        /// One fan per slice of azimuth.
+        buckets: Vec<Fan>,
     },
     /// The stop's shape mapped back to the rear plane.
     Stop {
@@ -119,7 +120,9 @@ impl PupilBounds {
                 whole.len() as f64 * whole_side * whole_side + sub.len() as f64 * sub_side * sub_side
             }
             PupilBounds::Stop { area, .. } => *area,
-            PupilBounds::Star { area, .. } => *area,
+            PupilBounds::Star(fan) => fan.area(),
+            // the bounds of a film point are one bucket's, asked of it there
+            PupilBounds::Shaped { .. } => f64::NAN,
         }
     }
 }
@@ -252,10 +255,11 @@ impl PupilTables {
         PupilTables { bin_width, bins, stop: shaped }
     }
 
-    /// The bounds for the film point (fx, fy) mm and a target drawn from
-    /// them with the uniforms `a`, rotated to the film point's azimuth
-    /// (lens frame, mm). `None` when no ray passes from there.
-    pub fn sample(&self, fx: f64, fy: f64, a: (f64, f64)) -> Option<(&PupilBounds, (f64, f64))> {
+    /// A target drawn with the uniforms `a` from the bounds for the film
+    /// point (fx, fy) mm, turned to the film point's azimuth (lens frame,
+    /// mm), and the area of the region it was drawn from (mm^2; targets are
+    /// uniform over it). `None` when no ray passes from there.
+    pub fn sample(&self, fx: f64, fy: f64, a: (f64, f64)) -> Option<(f64, (f64, f64))> {
         let r = (fx * fx + fy * fy).sqrt();
         let bin = ((r / self.bin_width) as usize).min(BINS - 1);
         let b = self.bins.get(bin)?;
@@ -284,20 +288,11 @@ impl PupilTables {
                 let across = (scaled - k as f64).clamp(0.0, 1.0);
                 rotate((x0 + across * side, y0 + a.1 * side))
             }
-            PupilBounds::Star { centre, corners, alias, .. } => {
-                // a triangle by the alias table, the first uniform's
-                // remainder reused across the triangle
-                let scaled = a.0 * alias.len() as f64;
-                let j = (scaled as usize).min(alias.len() - 1);
-                let u = scaled - j as f64;
-                let (keep, other) = alias[j];
-                let (k, rest) = if u < keep { (j, u / keep) } else { (other as usize, (u - keep) / (1.0 - keep)) };
-                let (mut s1, mut t1) = (rest.clamp(0.0, 1.0), a.1);
-                if s1 + t1 > 1.0 {
-                    (s1, t1) = (1.0 - s1, 1.0 - t1);
-                }
-                let (p, q) = (corners[k], corners[(k + 1) % corners.len()]);
-                rotate((centre[0] + s1 * p[0] + t1 * q[0], centre[1] + s1 * p[1] + t1 * q[1]))
+            PupilBounds::Star(fan) => rotate(fan.sample(a)),
+            PupilBounds::Shaped { period, buckets } => {
+                let phi = s.atan2(c).rem_euclid(*period);
+                let k = ((phi / period * buckets.len() as f64) as usize).min(buckets.len() - 1);
+                return Some((buckets[k].area(), rotate(buckets[k].sample(a))));
             }
             PupilBounds::Stop { inverse: m, offset, scale, .. } => {
                 let (shape, sd) = self.stop.as_ref()?;
@@ -309,7 +304,7 @@ impl PupilTables {
                 rotate((m[0] * qx + m[1] * qy, m[2] * qx + m[3] * qy))
             }
         };
-        Some((b, t))
+        Some((b.area(), t))
     }
 
     /// Number of radial bins.
@@ -369,7 +364,7 @@ impl PupilTables {
             k[match b {
                 PupilBounds::Empty => 0,
                 PupilBounds::Cells { .. } => 1,
-                PupilBounds::Star { .. } => 2,
+                PupilBounds::Star(_) | PupilBounds::Shaped { .. } => 2,
                 PupilBounds::Stop { .. } => 3,
             }] += 1;
         }

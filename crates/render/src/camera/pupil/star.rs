@@ -1,6 +1,7 @@
 //! Star-shaped bounds: the passing region's edge along 256 directions from
 //! its centroid, for the round stop (see the module above).
 
+use super::fan::Fan;
 use super::{passing_probes, Probe, PupilBounds};
 
 /// Directions of a star-shaped region's boundary.
@@ -12,6 +13,11 @@ const BISECTIONS: usize = 12;
 /// `None` where the region is not star-shaped about the passing probes'
 /// centroid for every film radius of the bin (the cells take over).
 pub(super) fn star_bin(probe: &Probe, radii: &[f64], rear: f64) -> Option<PupilBounds> {
+    star_fan(probe, radii, rear).map(PupilBounds::Star)
+}
+
+/// The star-shaped polygon of [`star_bin`].
+pub(super) fn star_fan(probe: &Probe, radii: &[f64], rear: f64) -> Option<Fan> {
     let (b, passed) = passing_probes(probe, radii, rear)?;
     let n = passed.len() as f64;
     let c = passed.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));
@@ -75,31 +81,7 @@ pub(super) fn star_bin(probe: &Probe, radii: &[f64], rear: f64) -> Option<PupilB
     if !passed.iter().all(inside) {
         return None;
     }
-    let wedge = (2.0 * half_step).sin() / 2.0;
-    let areas: Vec<f64> = (0..DIRECTIONS).map(|k| wedge * radius[k] * radius[(k + 1) % DIRECTIONS]).collect();
-    let corners = (0..DIRECTIONS).map(|k| [dirs[k].0 * radius[k], dirs[k].1 * radius[k]]).collect();
-    Some(PupilBounds::Star { centre: [c.0, c.1], corners, area: areas.iter().sum(), alias: alias_table(&areas) })
-}
-
-/// Walker's alias table (Vose's construction) for choosing index k with
-/// probability `w[k] / sum(w)`: entry j keeps j with its probability and
-/// otherwise gives its alias.
-fn alias_table(w: &[f64]) -> Vec<(f64, u32)> {
-    let n = w.len();
-    let total: f64 = w.iter().sum();
-    let mut p: Vec<f64> = w.iter().map(|x| x * n as f64 / total).collect();
-    let mut table = vec![(1.0, 0u32); n];
-    let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&k| p[k] < 1.0);
-    while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
-        table[s] = (p[s], l as u32);
-        p[l] -= 1.0 - p[s];
-        if p[l] < 1.0 {
-            large.pop();
-            small.push(l);
-        }
-    }
-    for k in small.into_iter().chain(large) {
-        table[k] = (1.0, k as u32);
-    }
-    table
+    let corners: Vec<[f64; 2]> =
+        (0..DIRECTIONS).map(|k| [c.0 + dirs[k].0 * radius[k], c.1 + dirs[k].1 * radius[k]]).collect();
+    Fan::new([c.0, c.1], &corners)
 }

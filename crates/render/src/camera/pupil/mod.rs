@@ -22,13 +22,15 @@
 //!   Probes go as batches through the lens crate's batch tracer, the bins
 //!   in parallel.
 //! - A shaped stop (polygon, mask): rotating the bounds would turn the
-//!   shape, so the shape itself is sampled. Per radial bin, the map from
-//!   rear-plane target to stop point is fitted by an affine map (least
-//!   squares over the bin's passing probes) and targets are drawn by
-//!   drawing stop points uniformly over the shape grown by the fit's worst
-//!   residual (with margin) and mapping them back; the map is rotated with
-//!   the film point, and the shape stays fixed in the lens, because the
-//!   stop point is drawn in the lens frame.
+//!   shape against the lens, so the shape itself bounds. Per radial bin,
+//!   the map from rear-plane target to stop point is fitted by an affine
+//!   map (least squares over the bin's passing probes); for each of 64
+//!   slices of the film point's azimuth over the shape's period of symmetry,
+//!   the round stop's polygon is clipped by the shape turned to the slice
+//!   (grown for the turns within it and for the fit's worst residual) and
+//!   mapped back, all in the frame of a film point on +x. Where the round
+//!   stop's bounds are not star-shaped, the shape alone, mapped back, is
+//!   drawn from.
 //!
 //! Either way the density of targets over the rear plane is known exactly
 //! (uniform over the region), so the estimator is unbiased as long as the

@@ -32,15 +32,16 @@ pub fn run(a: Args) -> CmdResult {
             "median_rays_per_second": m.median_rays_per_second,
             "median_ray_surface_per_second": m.median_ray_surface_per_second,
             "reached_fraction": m.reached_fraction,
-        }));
+        }))?;
     } else {
-        println!("{} rays x {} passes through {} surfaces, one thread", a.rays, m.passes, p.surfaces().len());
-        println!("  {:.3e} rays/s (fastest pass; median {:.3e})", m.rays_per_second, m.median_rays_per_second);
-        println!(
+        outln!("{} rays x {} passes through {} surfaces, one thread", a.rays, m.passes, p.surfaces().len());
+        outln!("  {:.3e} rays/s (fastest pass; median {:.3e})", m.rays_per_second, m.median_rays_per_second);
+        outln!(
             "  {:.3e} ray-surface intersections/s (fastest pass; median {:.3e})",
-            m.ray_surface_per_second, m.median_ray_surface_per_second
+            m.ray_surface_per_second,
+            m.median_ray_surface_per_second
         );
-        println!("  {:.1}% of rays reach the film", 100.0 * m.reached_fraction);
+        outln!("  {:.1}% of rays reach the film", 100.0 * m.reached_fraction);
     }
     Ok(ExitCode::SUCCESS)
 }

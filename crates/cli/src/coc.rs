@@ -48,23 +48,27 @@ pub fn run(a: Args) -> CmdResult {
         plot::save(&plot::coc::coc_chart(&dense, &t, p.name()), out)?;
     }
     if a.out.json {
-        print_json(&serde_json::to_value(&t)?);
+        print_json(&serde_json::to_value(&t)?)?;
         return Ok(ExitCode::SUCCESS);
     }
     let focus = t.focus_distance.map_or("infinity".to_string(), |d| format!("{} mm", num(d)));
-    println!(
+    outln!(
         "focused at {focus} (film {:.6} mm behind the last vertex); EFL {:.4} mm, entrance pupil {:.4} mm at z {:.4} mm",
         t.film_distance, t.efl, t.entrance_pupil_diameter, t.entrance_pupil_z
     );
-    println!(
+    outln!(
         "{:>14} {:>14} {:>14} {:>14} {:>9}",
-        "distance (mm)", "geo diam (mm)", "rms diam (mm)", "thin lens (mm)", "real/thin"
+        "distance (mm)",
+        "geo diam (mm)",
+        "rms diam (mm)",
+        "thin lens (mm)",
+        "real/thin"
     );
     for r in &t.rows {
         let d = r.distance.map_or("inf".to_string(), num);
         let ratio = if r.thin_lens_diameter > 0.0 { r.geo_diameter / r.thin_lens_diameter } else { f64::NAN };
         let ratio = if ratio.is_finite() { format!("{ratio:.4}") } else { "-".into() };
-        println!("{d:>14} {:>14.6} {:>14.6} {:>14.6} {ratio:>9}", r.geo_diameter, r.rms_diameter, r.thin_lens_diameter);
+        outln!("{d:>14} {:>14.6} {:>14.6} {:>14.6} {ratio:>9}", r.geo_diameter, r.rms_diameter, r.thin_lens_diameter);
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -57,7 +57,7 @@ pub fn run(a: Args) -> CmdResult {
     table(&mut out, &coc);
     match a.output {
         Some(path) => std::fs::write(&path, out).map_err(|e| format!("{}: {e}", path.display()))?,
-        None => print!("{out}"),
+        None => out!("{out}"),
     }
     Ok(ExitCode::SUCCESS)
 }

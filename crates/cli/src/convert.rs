@@ -19,7 +19,7 @@ pub fn run(a: Args) -> CmdResult {
     let text = p.to_spec().to_json_string() + "\n";
     match a.output {
         Some(path) => std::fs::write(&path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
-        None => print!("{text}"),
+        None => out!("{text}"),
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -47,17 +47,20 @@ pub fn run(a: Args) -> CmdResult {
         plot::save(&plot::fan::fan_chart(&fans, p.name()), out)?;
     }
     if a.out.json {
-        print_json(&serde_json::to_value(&fan)?);
+        print_json(&serde_json::to_value(&fan)?)?;
         return Ok(ExitCode::SUCCESS);
     }
-    println!(
+    outln!(
         "ray fan at {} deg on z = {:.6} mm (chief ray at x {:.6}, y {:.6} mm)",
-        a.field.field_deg, fan.image_z, fan.chief[0], fan.chief[1]
+        a.field.field_deg,
+        fan.image_z,
+        fan.chief[0],
+        fan.chief[1]
     );
-    println!("{:>9} {:>14} {:>9} {:>14}", "py", "ey (mm)", "px", "ex (mm)");
+    outln!("{:>9} {:>14} {:>9} {:>14}", "py", "ey (mm)", "px", "ex (mm)");
     let f = |v: Option<f64>| v.map_or("vignetted".to_string(), |v| format!("{v:.6e}"));
     for (t, s) in fan.tangential.iter().zip(&fan.sagittal) {
-        println!("{:>9.4} {:>14} {:>9.4} {:>14}", t.py, f(t.ey), s.px, f(s.ex));
+        outln!("{:>9.4} {:>14} {:>9.4} {:>14}", t.py, f(t.ey), s.px, f(s.ex));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -31,16 +31,23 @@ pub fn run(a: Args) -> CmdResult {
         plot::save(&plot::field::field_chart(&c, p.name()), out)?;
     }
     if a.out.json {
-        print_json(&serde_json::to_value(&c)?);
+        print_json(&serde_json::to_value(&c)?)?;
         return Ok(ExitCode::SUCCESS);
     }
-    println!("field curves to {:.3} deg on the paraxial image plane z = {:.6} mm", c.max_field_deg, c.image_z);
-    println!(
+    outln!("field curves to {:.3} deg on the paraxial image plane z = {:.6} mm", c.max_field_deg, c.image_z);
+    outln!(
         "{:>8} {:>12} {:>12} {:>11} {:>12} {:>12} {:>9} {:>9}",
-        "deg", "height", "paraxial", "dist (%)", "tan (mm)", "sag (mm)", "unvign.", "rel.ill."
+        "deg",
+        "height",
+        "paraxial",
+        "dist (%)",
+        "tan (mm)",
+        "sag (mm)",
+        "unvign.",
+        "rel.ill."
     );
     for f in &c.fields {
-        println!(
+        outln!(
             "{:>8.3} {:>12.6} {:>12.6} {:>11.5} {:>12.6} {:>12.6} {:>9.4} {:>9.4}",
             f.field_deg,
             f.chief_height,
@@ -52,9 +59,9 @@ pub fn run(a: Args) -> CmdResult {
             f.relative_illumination
         );
     }
-    println!("longitudinal spherical aberration:");
+    outln!("longitudinal spherical aberration:");
     for z in &c.spherical {
-        println!("  pupil {:.2}: {:+.6} mm", z.pupil, z.longitudinal);
+        outln!("  pupil {:.2}: {:+.6} mm", z.pupil, z.longitudinal);
     }
     Ok(ExitCode::SUCCESS)
 }

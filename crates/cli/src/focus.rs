@@ -31,15 +31,15 @@ pub fn run(a: Args) -> CmdResult {
             ObjectDistance::Finite(d) => Some(d),
         };
         if a.out.json {
-            print_json(&json!({"film_distance": film, "object_distance": d}));
+            print_json(&json!({"film_distance": film, "object_distance": d}))?;
         } else {
             match d {
-                Some(d) => println!(
+                Some(d) => outln!(
                     "a film {} mm behind the last vertex is in focus for an object {} mm in front of the first vertex",
                     num(film),
                     num(d)
                 ),
-                None => println!("a film {} mm behind the last vertex is in focus at infinity", num(film)),
+                None => outln!("a film {} mm behind the last vertex is in focus at infinity", num(film)),
             }
         }
         return Ok(ExitCode::SUCCESS);
@@ -54,25 +54,26 @@ pub fn run(a: Args) -> CmdResult {
             "rms_radius_at_paraxial_focus": f.rms_radius_at_paraxial_focus,
             "rms_radius_at_best_focus": f.rms_radius_at_best_focus,
             "pupil_fill": f.pupil_fill,
-        }));
+        }))?;
         return Ok(ExitCode::SUCCESS);
     }
     match object {
-        ObjectDistance::Infinity => println!("object distance        infinity"),
-        ObjectDistance::Finite(d) => println!("object distance        {} mm in front of the first vertex", num(d)),
+        ObjectDistance::Infinity => outln!("object distance        infinity"),
+        ObjectDistance::Finite(d) => outln!("object distance        {} mm in front of the first vertex", num(d)),
     }
-    println!("film distance          {:.9} mm behind the last vertex (paraxial)", f.film_distance);
-    println!(
+    outln!("film distance          {:.9} mm behind the last vertex (paraxial)", f.film_distance);
+    outln!(
         "best focus (real rays) {:.9} mm ({:+.6} mm from paraxial)",
         f.best_focus_film_distance,
         f.best_focus_film_distance - f.film_distance
     );
-    println!(
+    outln!(
         "RMS spot radius        {:.6} mm at paraxial focus, {:.6} mm at best focus",
-        f.rms_radius_at_paraxial_focus, f.rms_radius_at_best_focus
+        f.rms_radius_at_paraxial_focus,
+        f.rms_radius_at_best_focus
     );
     if f.pupil_fill < 1.0 {
-        println!("on-axis bundle fills   {:.4} of the entrance pupil radius (vignetted)", f.pupil_fill);
+        outln!("on-axis bundle fills   {:.4} of the entrance pupil radius (vignetted)", f.pupil_fill);
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -39,51 +39,54 @@ pub fn run(a: Args) -> CmdResult {
             "image_distance": img.image_distance,
             "magnification": img.magnification,
             "total_track": f.total_track,
-        }));
+        }))?;
         return Ok(ExitCode::SUCCESS);
     }
-    println!("{}", a.lens.name(&p));
+    outln!("{}", a.lens.name(&p));
     if let Some(s) = p.source() {
-        println!("  source: {s}");
+        outln!("  source: {s}");
     }
-    println!(
+    outln!(
         "  {} surfaces, stop at surface {} (semi-diameter {:.4} mm)",
         p.surfaces().len(),
         p.stop_index() + 1,
         p.stop_semi_diameter()
     );
-    println!("  z is measured from the first vertex, +z toward the image; mm");
-    let row = |k: &str, v: String| println!("  {k:<28} {v}");
-    row("effective focal length", format!("{:.6}", f.efl));
-    row("back focal length", format!("{:.6}  (from the last vertex)", f.bfl));
-    row("front focal point z", format!("{:.6}", f.ffd));
-    row("front principal plane z", format!("{:.6}", f.front_principal_plane));
-    row("back principal plane z", format!("{:.6}", f.back_principal_plane));
-    row("entrance pupil", format!("z {:.6}, diameter {:.6}", f.entrance_pupil.z, f.entrance_pupil.diameter));
+    outln!("  z is measured from the first vertex, +z toward the image; mm");
+    let row = |k: &str, v: String| -> Result<(), crate::StdoutError> {
+        outln!("  {k:<28} {v}");
+        Ok(())
+    };
+    row("effective focal length", format!("{:.6}", f.efl))?;
+    row("back focal length", format!("{:.6}  (from the last vertex)", f.bfl))?;
+    row("front focal point z", format!("{:.6}", f.ffd))?;
+    row("front principal plane z", format!("{:.6}", f.front_principal_plane))?;
+    row("back principal plane z", format!("{:.6}", f.back_principal_plane))?;
+    row("entrance pupil", format!("z {:.6}, diameter {:.6}", f.entrance_pupil.z, f.entrance_pupil.diameter))?;
     row(
         "exit pupil",
         match f.exit_pupil {
             Some(x) => format!("z {:.6}, diameter {:.6}", x.z, x.diameter),
             None => "at infinity (telecentric in image space)".into(),
         },
-    );
-    row("f-number", format!("{:.4}", f.f_number));
+    )?;
+    row("f-number", format!("{:.4}", f.f_number))?;
     if let Some(l) = limit {
         let note = if l.f_number > f.f_number { "; the stop is larger than they let through" } else { "" };
         row(
             "clear apertures allow",
             format!("f/{:.4} (surface {}, semi-diameter {} mm{note})", l.f_number, l.surface + 1, l.semi_diameter),
-        );
+        )?;
     }
     let obj = match object {
         ObjectDistance::Infinity => "infinity".to_string(),
         ObjectDistance::Finite(d) => format!("{} mm", lens::error::num(d)),
     };
-    row("object distance", obj);
-    row("image distance", format!("{:.6}  (from the last vertex)", img.image_distance));
-    row("magnification", format!("{:.6}", img.magnification));
-    row("working f-number", format!("{:.4}", img.working_f_number));
-    row("film distance", format!("{:.6}  (last thickness)", p.film_distance()));
-    row("total track", format!("{:.6}", f.total_track));
+    row("object distance", obj)?;
+    row("image distance", format!("{:.6}  (from the last vertex)", img.image_distance))?;
+    row("magnification", format!("{:.6}", img.magnification))?;
+    row("working f-number", format!("{:.4}", img.working_f_number))?;
+    row("film distance", format!("{:.6}  (last thickness)", p.film_distance()))?;
+    row("total track", format!("{:.6}", f.total_track))?;
     Ok(ExitCode::SUCCESS)
 }

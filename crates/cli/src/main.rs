@@ -2,6 +2,23 @@
 //! library, prints. Exit codes: 0 success, 1 a finding or computation error,
 //! 2 bad usage.
 
+/// `println!` that hands back a failed write to standard output (a full
+/// disk, a file that cannot grow) as an error instead of panicking.
+macro_rules! outln {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        writeln!(std::io::stdout().lock(), $($t)*).map_err($crate::StdoutError)?
+    }};
+}
+
+/// `print!` likewise.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        write!(std::io::stdout().lock(), $($t)*).map_err($crate::StdoutError)?
+    }};
+}
+
 mod args;
 mod bench;
 mod coc;
@@ -71,6 +88,12 @@ fn main() -> ExitCode {
         Command::Render(a) => render::run(a),
         Command::Bench(a) => bench::run(a),
     };
+    // what is still buffered must reach its file too
+    let result = result.and_then(|code| {
+        use std::io::Write as _;
+        std::io::stdout().flush().map_err(StdoutError)?;
+        Ok(code)
+    });
     match result {
         Ok(code) => code,
         Err(e) => {
@@ -96,6 +119,19 @@ fn restore_sigpipe() {
 type CmdResult = Result<ExitCode, Box<dyn std::error::Error>>;
 
 /// Prints a JSON value on one line.
-fn print_json(v: &serde_json::Value) {
-    println!("{v}");
+fn print_json(v: &serde_json::Value) -> Result<(), StdoutError> {
+    use std::io::Write as _;
+    writeln!(std::io::stdout().lock(), "{v}").map_err(StdoutError)
 }
+
+/// Standard output could not be written.
+#[derive(Debug)]
+pub struct StdoutError(std::io::Error);
+
+impl std::fmt::Display for StdoutError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "cannot write to standard output: {}", self.0)
+    }
+}
+
+impl std::error::Error for StdoutError {}

@@ -84,29 +84,32 @@ pub fn run(args: Args) -> CmdResult {
             "airy_radius": s.airy_radius,
             "best_focus_shift": s.best_focus_shift,
             "rms_radius_best_focus": s.rms_radius_best_focus,
-        }));
+        }))?;
         return Ok(ExitCode::SUCCESS);
     }
-    println!(
+    outln!(
         "spot at {field_deg} deg on z = {:.6} mm, {} pattern: {} rays, {} vignetted",
         s.image_z,
         pattern.name(),
         s.rays,
         s.vignetted
     );
-    println!("  centroid            x {:.6e}, y {:.6e} mm", s.centroid[0], s.centroid[1]);
-    println!(
+    outln!("  centroid            x {:.6e}, y {:.6e} mm", s.centroid[0], s.centroid[1]);
+    outln!(
         "  RMS radius          {:.6e} mm (about the centroid), {:.6e} mm (about the chief ray)",
-        s.rms_radius, s.rms_radius_chief
+        s.rms_radius,
+        s.rms_radius_chief
     );
-    println!(
+    outln!(
         "  geometric radius    {:.6e} mm (about the centroid), {:.6e} mm (about the chief ray)",
-        s.geo_radius, s.geo_radius_chief
+        s.geo_radius,
+        s.geo_radius_chief
     );
-    println!("  Airy radius         {:.6e} mm (587.56 nm)", s.airy_radius);
-    println!(
+    outln!("  Airy radius         {:.6e} mm (587.56 nm)", s.airy_radius);
+    outln!(
         "  best focus          {:+.6e} mm from this plane, RMS radius {:.6e} mm",
-        s.best_focus_shift, s.rms_radius_best_focus
+        s.best_focus_shift,
+        s.rms_radius_best_focus
     );
     Ok(ExitCode::SUCCESS)
 }

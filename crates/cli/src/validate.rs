@@ -33,15 +33,15 @@ pub fn run(a: Args) -> CmdResult {
                 "error": load_error,
                 "findings": findings,
             });
-            println!("{v}");
+            outln!("{v}");
             continue;
         }
         if let Some(e) = load_error {
-            println!("{}: error: {e}", path.display());
+            outln!("{}: error: {e}", path.display());
             continue;
         }
         let errors = findings.iter().filter(|f| f.severity == lens::model::Severity::Error).count();
-        println!(
+        outln!(
             "{}: {} ({} error{}, {} warning{})",
             path.display(),
             if valid { "valid" } else { "INVALID" },
@@ -51,7 +51,7 @@ pub fn run(a: Args) -> CmdResult {
             if findings.len() - errors == 1 { "" } else { "s" },
         );
         for f in &findings {
-            println!("  {f}");
+            outln!("  {f}");
         }
     }
     Ok(if failed { ExitCode::from(1) } else { ExitCode::SUCCESS })

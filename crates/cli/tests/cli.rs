@@ -215,3 +215,32 @@ fn pictures_are_written_as_svg_and_png() {
     assert_eq!(code, 1);
     assert!(err.contains(".svg or .png"), "{err}");
 }
+
+/// A write error on standard output (a full disk) is an error with exit 1,
+/// not a panic, for every command that prints.
+#[test]
+fn a_full_standard_output_is_an_error_not_a_panic() {
+    let full = std::path::Path::new("/dev/full");
+    if !full.exists() {
+        return;
+    }
+    for args in [
+        vec!["info", "lens-data/double-gauss-50mm.json"],
+        vec!["info", "lens-data/double-gauss-50mm.json", "--json"],
+        vec!["fan", "lens-data/double-gauss-50mm.json", "--json"],
+        vec!["spot", "lens-data/double-gauss-50mm.json"],
+        vec!["validate", "lens-data/double-gauss-50mm.json"],
+        vec!["convert", "lens-data/double-gauss-50mm.json"],
+        vec!["coc", "lens-data/double-gauss-50mm.json", "--focus-mm", "2000", "--distances", "1000"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_lens"))
+            .args(&args)
+            .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+            .stdout(std::fs::File::create(full).unwrap())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
+        assert!(err.contains("cannot write to standard output"), "{args:?}: {err}");
+    }
+}

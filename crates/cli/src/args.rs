@@ -137,3 +137,29 @@ pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
         .map(|t| t.trim().parse::<f64>().map_err(|_| format!("\"{t}\" is not a number")))
         .collect()
 }
+
+/// `--wavelength-nm W`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct WavelengthArgs {
+    /// Wavelength in nm (default: the d line, 587.5618 nm, or the
+    /// prescription's primary wavelength).
+    #[arg(long, value_name = "NM")]
+    pub wavelength_nm: Option<f64>,
+}
+
+/// `--glass-catalog FILE`, repeatable.
+#[derive(clap::Args, Debug, Clone)]
+pub struct GlassArgs {
+    /// A Zemax AGF glass catalogue to search before the shipped ones
+    /// (repeatable; UTF-16, UTF-8 or Latin-1).
+    #[arg(long = "glass-catalog", value_name = "FILE")]
+    pub glass_catalogs: Vec<PathBuf>,
+}
+
+impl GlassArgs {
+    /// The user's catalogues and the shipped ones.
+    pub fn load(&self) -> Result<lens::glass::Catalogs, lens::glass::GlassError> {
+        let extra = self.glass_catalogs.iter().map(|p| lens::glass::agf::load(p)).collect::<Result<Vec<_>, _>>()?;
+        Ok(lens::glass::Catalogs::with(extra))
+    }
+}

@@ -27,6 +27,7 @@ mod convert;
 mod fan;
 mod field;
 mod focus;
+mod glass;
 mod info;
 mod layout;
 mod render;
@@ -61,6 +62,8 @@ enum Command {
     Coc(coc::Args),
     /// Distortion, field curvature, spherical aberration, vignetting.
     Field(field::Args),
+    /// A glass's index, nd, vd and range; its dispersion or the glass map as a plot.
+    Glass(glass::Args),
     /// Draw the lens cross-section with ray bundles.
     Layout(layout::Args),
     /// Error against run time of the pupil-sampled statistics (markdown).
@@ -83,6 +86,7 @@ fn main() -> ExitCode {
         Command::Spot(a) => spot::run(a),
         Command::Coc(a) => coc::run(a),
         Command::Field(a) => field::run(a),
+        Command::Glass(a) => glass::run(a),
         Command::Layout(a) => layout::run(a),
         Command::Convergence(a) => convergence::run(a),
         Command::Render(a) => render::run(a),

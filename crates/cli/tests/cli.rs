@@ -244,3 +244,20 @@ fn a_full_standard_output_is_an_error_not_a_panic() {
         assert!(err.contains("cannot write to standard output"), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn glass_json_has_the_contract_keys() {
+    let (code, out, err) = lens(&["glass", "SCHOTT:N-BK7", "--wavelength-nm", "486.1327", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert_eq!(v["catalog"], "SCHOTT");
+    assert_eq!(v["name"], "N-BK7");
+    assert!(v["formula"].is_string());
+    assert!((v["nd"].as_f64().unwrap() - 1.5168).abs() < 5e-6);
+    assert!((v["vd"].as_f64().unwrap() - 64.17).abs() < 0.01);
+    assert!((v["n"].as_f64().unwrap() - 1.52238).abs() < 5e-6);
+    assert_eq!(v["range_nm"][0].as_f64(), Some(300.0));
+    let (code, _, err) = lens(&["glass", "SCHOTT:N-BK8"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("N-BK7"), "{err}");
+}

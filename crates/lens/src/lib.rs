@@ -8,6 +8,8 @@
 //! - [`trace`]: exact real-ray tracing, one ray ([`Tracer::trace`]) or a
 //!   batch ([`Tracer::trace_soa`], [`Tracer::trace_batch`]), each ray ending
 //!   in a classified [`Outcome`]; the surface step is written once;
+//! - [`glass`]: glass catalogues and dispersion formulas (shipped and
+//!   Zemax AGF), indices at any wavelength;
 //! - [`paraxial`]: first-order optics (focal lengths, cardinal points,
 //!   pupils, f-numbers, conjugates, focus);
 //! - [`analysis`]: what an optical engineer asks of a lens (fans, spots,
@@ -31,6 +33,7 @@
 
 pub mod analysis;
 pub mod error;
+pub mod glass;
 pub mod io;
 pub mod model;
 pub mod paraxial;

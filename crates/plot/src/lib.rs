@@ -8,6 +8,7 @@ pub mod coc;
 pub mod fan;
 pub mod field;
 pub mod figure;
+pub mod glass;
 pub mod layout;
 pub mod raster;
 pub mod spot;

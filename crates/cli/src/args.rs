@@ -19,16 +19,37 @@ pub struct LensArgs {
     /// apertures cannot pass it.
     #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub f_number: Option<f64>,
+    #[command(flatten)]
+    pub catalogs: GlassArgs,
 }
 
 impl LensArgs {
-    /// Loads the prescription and resizes its stop if asked.
+    /// Loads the prescription (at its primary wavelength) and resizes its
+    /// stop if asked.
     pub fn load(&self) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
-        let p = lens::Prescription::load(&self.file)?;
+        let extra = self.catalogs.user_catalogs()?;
+        let p = lens::Prescription::load_with(&self.file, extra)?;
         Ok(match self.f_number {
             Some(n) => lens::analysis::aperture::with_f_number(&p, n)?,
             None => p,
         })
+    }
+
+    /// The prescription at its primary wavelength, and at `wavelength_nm`
+    /// (the primary when not given).
+    pub fn load_at(
+        &self,
+        wavelength_nm: Option<f64>,
+    ) -> Result<(lens::Prescription, lens::Prescription), Box<dyn std::error::Error>> {
+        let p = self.load()?;
+        let at = match wavelength_nm {
+            Some(w) if !(w.is_finite() && w > 0.0) => {
+                return Err(format!("--wavelength-nm {w}: give a positive wavelength in nm").into())
+            }
+            Some(w) => p.at_wavelength(w)?,
+            None => p.clone(),
+        };
+        Ok((p, at))
     }
 
     /// The prescription's name, or the file's when it has none.
@@ -157,9 +178,13 @@ pub struct GlassArgs {
 }
 
 impl GlassArgs {
+    /// The user's catalogues.
+    pub fn user_catalogs(&self) -> Result<Vec<lens::glass::Catalog>, lens::glass::GlassError> {
+        self.glass_catalogs.iter().map(|p| lens::glass::agf::load(p)).collect()
+    }
+
     /// The user's catalogues and the shipped ones.
     pub fn load(&self) -> Result<lens::glass::Catalogs, lens::glass::GlassError> {
-        let extra = self.glass_catalogs.iter().map(|p| lens::glass::agf::load(p)).collect::<Result<Vec<_>, _>>()?;
-        Ok(lens::glass::Catalogs::with(extra))
+        Ok(lens::glass::Catalogs::with(self.user_catalogs()?))
     }
 }

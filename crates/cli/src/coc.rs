@@ -1,6 +1,6 @@
 //! `lens coc`: real circles of confusion beside the thin-lens formula.
 
-use crate::args::{parse_list, JsonArgs, LensArgs, PlotArgs};
+use crate::args::{parse_list, JsonArgs, LensArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::coc::circle_of_confusion;
 use lens::error::num;
@@ -13,6 +13,8 @@ const CURVE_POINTS: usize = 96;
 pub struct Args {
     #[command(flatten)]
     lens: LensArgs,
+    #[command(flatten)]
+    wavelength: WavelengthArgs,
     /// Focus distance S1, mm in front of the first vertex (`inf` allowed).
     #[arg(long, value_name = "S1")]
     focus_mm: f64,
@@ -26,7 +28,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = a.lens.load()?;
+    let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     if a.distances.is_empty() {
         return Err("--distances: give at least one object distance in mm (`inf` for infinity)".into());
     }

@@ -1,8 +1,8 @@
 //! `lens fan`: tangential and sagittal ray fans at one field.
 
-use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs};
+use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
-use lens::analysis::fan::fan_with;
+use lens::analysis::fan::fan_traced;
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
 use std::process::ExitCode;
@@ -17,6 +17,8 @@ pub struct Args {
     aim: AimArgs,
     #[command(flatten)]
     plane: PlaneArgs,
+    #[command(flatten)]
+    wavelength: WavelengthArgs,
     /// Points per fan, evenly spaced on [-1, 1] (odd includes 0; at least 2).
     #[arg(long, default_value_t = 21)]
     points: usize,
@@ -31,14 +33,14 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = a.lens.load()?;
+    let (p, traced) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     if a.points < 2 {
         return Err(format!("--points {}: a fan needs at least 2 points", a.points).into());
     }
     let first = FirstOrder::of(&p)?;
     let fan_at = |deg: f64| -> Result<_, lens::OpticsError> {
         let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), a.aim.aim())?;
-        fan_with(&p, &launcher, a.points, a.plane.plane())
+        fan_traced(&p, &traced, &launcher, a.points, a.plane.plane())
     };
     let fan = fan_at(a.field.field_deg)?;
     if let Some(out) = &a.plot.plot {

@@ -1,7 +1,7 @@
 //! `lens field`: distortion, field curvature, spherical aberration and
 //! vignetting against field.
 
-use crate::args::{AimArgs, JsonArgs, LensArgs, PlotArgs};
+use crate::args::{AimArgs, JsonArgs, LensArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::curves::field_curves;
 use std::process::ExitCode;
@@ -10,6 +10,8 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(flatten)]
     lens: LensArgs,
+    #[command(flatten)]
+    wavelength: WavelengthArgs,
     /// Largest field angle, degrees (default: where the chief ray is lost).
     #[arg(long, value_name = "DEG")]
     max_field_deg: Option<f64>,
@@ -25,7 +27,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = a.lens.load()?;
+    let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     let c = field_curves(&p, a.max_field_deg, a.fields, a.aim.aim())?;
     if let Some(out) = &a.plot.plot {
         plot::save(&plot::field::field_chart(&c, p.name()), out)?;

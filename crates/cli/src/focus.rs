@@ -1,7 +1,7 @@
 //! `lens focus`: the film distance that focuses an object, or the object
 //! in focus for a film distance.
 
-use crate::args::{JsonArgs, LensArgs, ObjectArgs};
+use crate::args::{JsonArgs, LensArgs, ObjectArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::error::num;
 use lens::paraxial::ObjectDistance;
@@ -20,11 +20,13 @@ pub struct Args {
     #[arg(long, value_name = "MM", allow_hyphen_values = true, conflicts_with = "object_distance")]
     film_distance: Option<f64>,
     #[command(flatten)]
+    wavelength: WavelengthArgs,
+    #[command(flatten)]
     out: JsonArgs,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = a.lens.load()?;
+    let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     if let Some(film) = a.film_distance {
         let d = match lens::paraxial::object_distance_in_focus(&p, film)? {
             ObjectDistance::Infinity => None,

@@ -1,6 +1,6 @@
 //! `lens info`: first-order properties of a prescription.
 
-use crate::args::{JsonArgs, LensArgs, ObjectArgs};
+use crate::args::{JsonArgs, LensArgs, ObjectArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::aperture::clear_aperture_limit;
 use lens::paraxial::{imaging, FirstOrder, ObjectDistance};
@@ -14,11 +14,13 @@ pub struct Args {
     #[command(flatten)]
     object: ObjectArgs,
     #[command(flatten)]
+    wavelength: WavelengthArgs,
+    #[command(flatten)]
     out: JsonArgs,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = a.lens.load()?;
+    let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     let object = a.object.object()?;
     let f = FirstOrder::of(&p)?;
     let limit = clear_aperture_limit(&p, &f);

@@ -1,6 +1,6 @@
 //! `lens layout`: the cross-section drawing with ray bundles.
 
-use crate::args::{parse_list, AimArgs, LensArgs};
+use crate::args::{parse_list, AimArgs, LensArgs, WavelengthArgs};
 use crate::CmdResult;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -9,6 +9,8 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(flatten)]
     lens: LensArgs,
+    #[command(flatten)]
+    wavelength: WavelengthArgs,
     /// Field angles in degrees, comma-separated.
     #[arg(long, value_name = "DEG,DEG", value_parser = parse_list, default_value = "0")]
     fields: std::vec::Vec<f64>,
@@ -23,7 +25,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let p = a.lens.load()?;
+    let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     if a.rays > 1000 || a.fields.len() > 100 {
         return Err("--rays is at most 1000 per field and --fields at most 100 angles".into());
     }

@@ -1,9 +1,9 @@
 //! `lens spot`: spot diagram statistics at one field.
 
-use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs};
+use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::pattern::Pattern;
-use lens::analysis::{spot::spot_with, Field, Launcher};
+use lens::analysis::{spot::spot_traced, Field, Launcher};
 use lens::paraxial::FirstOrder;
 use serde_json::json;
 use std::process::ExitCode;
@@ -31,6 +31,8 @@ pub struct Args {
     aim: AimArgs,
     #[command(flatten)]
     plane: PlaneArgs,
+    #[command(flatten)]
+    wavelength: WavelengthArgs,
     /// Pupil pattern.
     #[arg(long, value_enum, default_value_t = PatternArg::Gauss)]
     pattern: PatternArg,
@@ -49,7 +51,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> CmdResult {
-    let p = args.lens.load()?;
+    let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
     let pattern = match args.pattern {
         PatternArg::Gauss => Pattern::Gauss,
         PatternArg::Square => Pattern::Square,
@@ -59,7 +61,7 @@ pub fn run(args: Args) -> CmdResult {
     let first = FirstOrder::of(&p)?;
     let spot_at = |deg: f64| -> Result<_, lens::OpticsError> {
         let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), args.aim.aim())?;
-        spot_with(&p, &launcher, pattern, args.n, args.plane.plane())
+        spot_traced(&p, &traced, &launcher, pattern, args.n, args.plane.plane())
     };
     let field_deg = args.field.field_deg;
     let s = spot_at(field_deg)?;
@@ -105,7 +107,7 @@ pub fn run(args: Args) -> CmdResult {
         s.geo_radius,
         s.geo_radius_chief
     );
-    outln!("  Airy radius         {:.6e} mm (587.56 nm)", s.airy_radius);
+    outln!("  Airy radius         {:.6e} mm ({} nm)", s.airy_radius, traced.wavelength_nm());
     outln!(
         "  best focus          {:+.6e} mm from this plane, RMS radius {:.6e} mm",
         s.best_focus_shift,

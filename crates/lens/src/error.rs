@@ -37,6 +37,14 @@ pub enum LoadError {
         /// What is wrong and what to change.
         message: String,
     },
+    /// A glass catalogue the file names cannot be read.
+    #[error("{origin}: glass_catalogs: {source}")]
+    Glass {
+        /// The prescription file.
+        origin: String,
+        /// What is wrong with the catalogue.
+        source: crate::glass::GlassError,
+    },
     /// The file parsed, but the prescription is not physically valid.
     #[error("{origin}: invalid prescription:\n{}", list(findings))]
     Invalid {

@@ -163,3 +163,120 @@ fn agf_formulas_closed_forms() {
     let s5 = [1.0, 0.006, 0.2, 0.02, 1.0, 100.0, 0.01, 0.5, 0.001, 0.3];
     close(d(11, &s5), (1.0 + (0..5).map(|i| s5[2 * i] * l2 / (l2 - s5[2 * i + 1])).sum::<f64>()).sqrt());
 }
+
+mod prescriptions {
+    use lens::model::Severity;
+    use lens::paraxial::FirstOrder;
+    use lens::Prescription;
+    use proptest::prelude::*;
+
+    fn data(name: &str) -> std::path::PathBuf {
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data").join(name)
+    }
+
+    /// A constant-index prescription is the same system at every
+    /// wavelength, to the last bit.
+    #[test]
+    fn constant_indices_do_not_depend_on_wavelength() {
+        for f in ["double-gauss-50mm.json", "cooke-triplet.json", "fisheye-10mm.json"] {
+            let p = Prescription::load(data(f)).unwrap();
+            assert!(!p.is_dispersive());
+            let a = FirstOrder::of(&p).unwrap();
+            for nm in [400.0, 486.1327, 700.0] {
+                let q = p.at_wavelength(nm).unwrap();
+                assert_eq!(q.surfaces(), p.surfaces());
+                let b = FirstOrder::of(&q).unwrap();
+                assert_eq!(a.efl.to_bits(), b.efl.to_bits());
+                assert_eq!(a.bfl.to_bits(), b.bfl.to_bits());
+            }
+        }
+    }
+
+    #[test]
+    fn glass_surfaces_are_checked_and_named() {
+        let bad = r#"{"surfaces": [
+            {"radius": 50, "thickness": 4, "glass": "SCHOTT:N-BK8", "semi_diameter": 10, "stop": true},
+            {"radius": -50, "thickness": 2, "glass": "SCHOTT:N-SF5", "ior": 1.6, "semi_diameter": 10},
+            {"thickness": 90, "semi_diameter": 10}]}"#;
+        let e = Prescription::from_json_str(bad, "bad.json").unwrap_err().to_string();
+        assert!(e.contains("surface 1") && e.contains("N-BK8") && e.contains("SCHOTT:N-BK7"), "{e}");
+        assert!(e.contains("surface 2") && e.contains("both"), "{e}");
+        let far = r#"{"wavelengths_nm": [3000], "surfaces": [
+            {"radius": 50, "thickness": 4, "glass": "SCHOTT:N-BK7", "semi_diameter": 10, "stop": true},
+            {"thickness": 90, "semi_diameter": 10}]}"#;
+        let e = Prescription::from_json_str(far, "far.json").unwrap_err().to_string();
+        assert!(e.contains("surface 1") && e.contains("3000 nm") && e.contains("2500"), "{e}");
+        let spec = lens::PrescriptionSpec::from_json_str(bad, "bad.json").unwrap();
+        assert!(lens::model::validate::validate(&spec)
+            .iter()
+            .any(|f| f.severity == Severity::Error && f.surface == Some(2)));
+    }
+
+    /// Glasses survive the round trip through the file format.
+    #[test]
+    fn glasses_round_trip_through_the_file_format() {
+        let text = r#"{"wavelengths_nm": [480, 550, 650], "primary_wavelength_nm": 550, "surfaces": [
+            {"radius": 61.07, "thickness": 4.0, "glass": "schott:N-BK7", "semi_diameter": 12.7, "stop": true},
+            {"radius": -44.17, "thickness": 2.5, "glass": {"nd": 1.6727, "vd": 32.2}, "semi_diameter": 12.7},
+            {"radius": -129.0, "thickness": 96.0, "semi_diameter": 12.7}]}"#;
+        let p = Prescription::from_json_str(text, "<test>").unwrap();
+        assert_eq!(p.primary_wavelength_nm(), 550.0);
+        let back = Prescription::from_json_str(&p.to_spec().to_json_string(), "<back>").unwrap();
+        assert_eq!(back, p);
+        let json = p.to_spec().to_json_string();
+        assert!(json.contains("SCHOTT:N-BK7") && json.contains("\"vd\": 32.2"), "{json}");
+    }
+
+    /// Two thin lenses in contact of model glasses.
+    fn achromat(f: f64, nd1: f64, v1: f64, nd2: f64, v2: f64) -> Prescription {
+        let phi = 1.0 / f;
+        let (p1, p2) = (phi * v1 / (v1 - v2), -phi * v2 / (v1 - v2));
+        let r1 = 2.0 * (nd1 - 1.0) / p1;
+        let r2 = -r1;
+        let r3 = 1.0 / (1.0 / r2 - p2 / (nd2 - 1.0));
+        // as thin as the 1 mm semi-diameter lets the glass be
+        let sag = |r: f64| lens::model::surface::sag(1.0 / r, 1.0).unwrap();
+        let (t1, t2) = ((sag(r1) - sag(r2)).max(0.0) + 0.005, (sag(r2) - sag(r3)).max(0.0) + 0.005);
+        let text = format!(
+            r#"{{"surfaces": [
+            {{"radius": {r1}, "thickness": {t1}, "glass": {{"nd": {nd1}, "vd": {v1}}}, "semi_diameter": 1, "stop": true}},
+            {{"radius": {r2}, "thickness": {t2}, "glass": {{"nd": {nd2}, "vd": {v2}}}, "semi_diameter": 1}},
+            {{"radius": {r3}, "thickness": {f}, "semi_diameter": 1}}]}}"#
+        );
+        Prescription::from_json_str(&text, "<achromat>").unwrap()
+    }
+
+    /// A thin equiconvex singlet of the first glass, of the same power.
+    fn singlet(f: f64, nd: f64, v: f64) -> Prescription {
+        let r = 2.0 * (nd - 1.0) * f;
+        let t = 2.0 * lens::model::surface::sag(1.0 / r, 1.0).unwrap() + 0.005;
+        let text = format!(
+            r#"{{"surfaces": [
+            {{"radius": {r}, "thickness": {t}, "glass": {{"nd": {nd}, "vd": {v}}}, "semi_diameter": 1, "stop": true}},
+            {{"radius": {}, "thickness": {f}, "semi_diameter": 1}}]}}"#,
+            -r
+        );
+        Prescription::from_json_str(&text, "<singlet>").unwrap()
+    }
+
+    fn defl_dlambda(p: &Prescription) -> f64 {
+        let efl = |nm: f64| FirstOrder::of(&p.at_wavelength(nm).unwrap()).unwrap().efl;
+        (efl(587.5618 + 0.5) - efl(587.5618 - 0.5)) / 1.0
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 64, ..ProptestConfig::default() })]
+        /// f1 V1 + f2 V2 = 0 makes a thin cemented doublet's focal length
+        /// stationary in wavelength at d: its dEFL/dλ is a thousandth of a
+        /// singlet's of the same focal length.
+        #[test]
+        fn thin_achromat_has_no_first_order_colour(f in 50.0f64..500.0, nd1 in 1.45f64..1.65, v1 in 50.0f64..80.0,
+                                                    nd2 in 1.6f64..1.95, v2 in 20.0f64..40.0) {
+            let a = achromat(f, nd1, v1, nd2, v2);
+            let singlet = singlet(f, nd1, v1);
+            let (da, ds) = (defl_dlambda(&a), defl_dlambda(&singlet));
+            prop_assert!(ds.abs() > 1e-4 * f / 100.0, "{ds}");
+            prop_assert!(da.abs() < 1e-3 * ds.abs(), "achromat {da} mm/nm, singlet {ds} mm/nm");
+        }
+    }
+}

@@ -97,6 +97,19 @@ pub fn ray_fan(p: &Prescription, field: Field, n: usize, aim: Aim, plane: ImageP
 /// [`ray_fan`] with a launcher already made (first-order data computed once
 /// by the caller). The chief ray and both fans are one batch.
 pub fn fan_with(p: &Prescription, launcher: &Launcher, n: usize, plane: ImagePlane) -> Result<RayFan, OpticsError> {
+    fan_traced(p, p, launcher, n, plane)
+}
+
+/// [`fan_with`] with the rays traced through `traced` (the same system at
+/// another wavelength) while the launcher and the image plane are those of
+/// `p` (the primary wavelength), as optical design programs do.
+pub fn fan_traced(
+    p: &Prescription,
+    traced: &Prescription,
+    launcher: &Launcher,
+    n: usize,
+    plane: ImagePlane,
+) -> Result<RayFan, OpticsError> {
     if n > 1_000_001 {
         return Err(OpticsError::BadInput {
             name: "points",
@@ -106,7 +119,7 @@ pub fn fan_with(p: &Prescription, launcher: &Launcher, n: usize, plane: ImagePla
     }
     let field = launcher.field();
     let image_z = plane.z(p, launcher)?;
-    let tracer = Tracer::forward_to_film(p, image_z - p.last_vertex_z());
+    let tracer = Tracer::forward_to_film(traced, image_z - p.last_vertex_z());
     let coords = fan_coordinates(n);
     let mut points = vec![(0.0, 0.0)];
     for &c in &coords {

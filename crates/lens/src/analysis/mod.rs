@@ -19,7 +19,3 @@ pub mod quadrature;
 pub mod spot;
 
 pub use launch::{Aim, Field, Launcher, AUTO_TOLERANCE};
-
-/// Wavelength used for diffraction scales (Airy radius), mm: the helium d
-/// line, 587.56 nm, at which the shipped prescriptions' indices are given.
-pub const WAVELENGTH_MM: f64 = 587.56e-6;

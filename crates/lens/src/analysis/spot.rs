@@ -8,7 +8,6 @@ use super::bundle::{describe_outcome, launch, Bundle, Landing};
 use super::fan::ImagePlane;
 use super::launch::{Aim, Field, Launcher};
 use super::pattern::{for_each, Pattern};
-use super::WAVELENGTH_MM;
 use crate::error::OpticsError;
 use crate::model::Prescription;
 use crate::paraxial::imaging;
@@ -46,8 +45,8 @@ pub struct SpotDiagram {
     pub geo_radius_chief: f64,
     /// Chief ray position.
     pub chief: [f64; 2],
-    /// Airy disk radius 1.22 lambda N_w (lambda = 587.56 nm, paraxial
-    /// working f-number), for scale.
+    /// Airy disk radius 1.22 lambda N_w (lambda the traced wavelength,
+    /// paraxial working f-number of the primary wavelength), for scale.
     pub airy_radius: f64,
     /// Axial shift of the plane (mm, + toward the image) that minimises the
     /// RMS radius about the centroid, and that radius.
@@ -148,6 +147,20 @@ pub fn spot_with(
     n: usize,
     plane: ImagePlane,
 ) -> Result<SpotDiagram, OpticsError> {
+    spot_traced(p, p, launcher, pattern, n, plane)
+}
+
+/// [`spot_with`] with the rays traced through `traced` (the same system at
+/// another wavelength) while the launcher, the image plane and the Airy
+/// radius's working f-number are those of `p` (the primary wavelength).
+pub fn spot_traced(
+    p: &Prescription,
+    traced: &Prescription,
+    launcher: &Launcher,
+    pattern: Pattern,
+    n: usize,
+    plane: ImagePlane,
+) -> Result<SpotDiagram, OpticsError> {
     let field = launcher.field();
     if pattern.count(n) > MAX_RAYS as f64 {
         return Err(OpticsError::BadInput {
@@ -160,7 +173,7 @@ pub fn spot_with(
         return Err(OpticsError::BadInput { name: "pattern size n", value: n as f64, expected: "at least 1" });
     }
     let image_z = plane.z(p, launcher)?;
-    let tracer = Tracer::forward_to_film(p, image_z - p.last_vertex_z());
+    let tracer = Tracer::forward_to_film(traced, image_z - p.last_vertex_z());
     let chief = match Bundle::trace(launcher, &tracer, vec![(0.0, 0.0)])?.landings[0] {
         Landing::Reached(ray) => [ray.origin.x, ray.origin.y],
         Landing::Stopped(o) => {
@@ -225,7 +238,7 @@ pub fn spot_with(
         geo_radius: st.geo_radius,
         geo_radius_chief: st.geo_radius_chief,
         chief,
-        airy_radius: 1.22 * WAVELENGTH_MM * wfn,
+        airy_radius: 1.22 * traced.wavelength_nm() * 1e-6 * wfn,
         best_focus_shift: 0.0,
         rms_radius_best_focus: 0.0,
         hits,

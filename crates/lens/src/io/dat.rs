@@ -57,6 +57,7 @@ pub fn parse_dat(text: &str, origin: &str) -> Result<PrescriptionSpec, LoadError
             radius: (!stop).then_some(radius),
             thickness,
             ior: Some(if ior == 0.0 { 1.0 } else { ior }),
+            glass: None,
             semi_diameter: Some(diameter / 2.0),
             stop,
         });
@@ -65,6 +66,9 @@ pub fn parse_dat(text: &str, origin: &str) -> Result<PrescriptionSpec, LoadError
         name: comments.first().cloned(),
         source: (comments.len() > 1).then(|| comments[1..].join("; ")),
         units: Some("mm".into()),
+        wavelengths_nm: None,
+        primary_wavelength_nm: None,
+        glass_catalogs: None,
         surfaces,
     };
     focus_last_thickness_at_infinity(&mut spec);

@@ -6,6 +6,7 @@ pub mod dat;
 pub mod json;
 
 use crate::error::LoadError;
+use crate::glass::{Catalog, Catalogs};
 use crate::model::{Prescription, PrescriptionSpec};
 use std::path::Path;
 
@@ -30,9 +31,26 @@ pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
 impl Prescription {
     /// Loads a prescription file: pbrt-v4 `.dat` by its extension, JSON
     /// otherwise. Errors name the file, and for JSON the line and column.
+    /// Glasses are looked up in the AGF catalogues the file names
+    /// (`glass_catalogs`, relative to it), then in the shipped ones.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, LoadError> {
+        Self::load_with(path, Vec::new())
+    }
+
+    /// [`Self::load`] with `extra` catalogues searched first (a user's, from
+    /// the command line).
+    pub fn load_with(path: impl AsRef<Path>, extra: Vec<Catalog>) -> Result<Self, LoadError> {
         let path = path.as_ref();
         let spec = load_spec(path)?;
-        Self::from_spec(&spec).map_err(|findings| LoadError::Invalid { origin: path.display().to_string(), findings })
+        let origin = path.display().to_string();
+        let mut catalogs = extra;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        for name in spec.glass_catalogs.iter().flatten() {
+            let c = crate::glass::agf::load(&dir.join(name))
+                .map_err(|e| LoadError::Glass { origin: origin.clone(), source: e })?;
+            catalogs.push(c);
+        }
+        let catalogs = Catalogs::with(catalogs);
+        Self::from_spec_with(&spec, &catalogs).map_err(|findings| LoadError::Invalid { origin, findings })
     }
 }

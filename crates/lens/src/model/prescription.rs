@@ -1,10 +1,14 @@
 //! A validated lens prescription: the data every computation reads.
 
 use super::finding::{has_errors, Finding, Severity};
-use super::spec::{PrescriptionSpec, SurfaceSpec};
+use super::spec::{GlassSpec, PrescriptionSpec, SurfaceSpec};
 use super::surface::Surface;
 use super::validate::validate;
 use crate::error::OpticsError;
+use crate::glass::{Catalogs, Glass, GlassError, LINE_C_NM, LINE_D_NM, LINE_F_NM};
+
+/// The wavelengths of a prescription that names none: F, d and C, nm.
+pub const DEFAULT_WAVELENGTHS_NM: [f64; 3] = [LINE_F_NM, LINE_D_NM, LINE_C_NM];
 
 /// A validated prescription: surfaces object side first, exactly one stop,
 /// every number finite. Build it with [`Prescription::from_spec`] or
@@ -18,19 +22,145 @@ pub struct Prescription {
     source: Option<String>,
     surfaces: Vec<Surface>,
     stop: usize,
+    /// The glasses the surfaces name ([`Surface::glass`] indexes them).
+    glasses: Vec<Glass>,
+    /// The system's wavelengths, nm.
+    wavelengths_nm: Vec<f64>,
+    /// The primary wavelength, nm.
+    primary_nm: f64,
+    /// The wavelength the surfaces' `ior` are for, nm.
+    wavelength_nm: f64,
+    /// AGF catalogues named in the file, as written.
+    glass_catalogs: Option<Vec<String>>,
 }
 
 impl Prescription {
     /// Validates `spec` and builds the prescription. On any error returns
     /// every finding (errors and warnings); warnings alone do not fail.
     pub fn from_spec(spec: &PrescriptionSpec) -> Result<Self, Vec<Finding>> {
-        let findings = validate(spec);
+        Self::from_spec_with(spec, Catalogs::shipped())
+    }
+
+    /// [`Self::from_spec`] with glass names looked up in `catalogs`. Every
+    /// surface's glass must be known and hold at every wavelength of the
+    /// system (findings name the surface, the glass and what to change);
+    /// the surfaces' indices are then those of the primary wavelength.
+    pub fn from_spec_with(spec: &PrescriptionSpec, catalogs: &Catalogs) -> Result<Self, Vec<Finding>> {
+        let mut findings = validate(spec);
+        let wavelengths_nm = spec.wavelengths_nm.clone().unwrap_or_else(|| DEFAULT_WAVELENGTHS_NM.to_vec());
+        let primary_nm = spec.primary_wavelength_nm.unwrap_or(if spec.wavelengths_nm.is_some() {
+            wavelengths_nm.get(wavelengths_nm.len() / 2).copied().unwrap_or(LINE_D_NM)
+        } else {
+            LINE_D_NM
+        });
+        let mut glasses: Vec<Glass> = Vec::new();
+        let mut surfaces: Vec<Surface> = Vec::with_capacity(spec.surfaces.len());
+        for (i, s) in spec.surfaces.iter().enumerate() {
+            let mut surf = surface_from_spec(s);
+            if let Some(g) = &s.glass {
+                let found = match g {
+                    GlassSpec::Name(name) => catalogs.find(name).cloned(),
+                    GlassSpec::Model { nd, vd } => Glass::model(*nd, *vd),
+                };
+                match found {
+                    Ok(glass) => {
+                        let mut bad = false;
+                        for &nm in wavelengths_nm.iter().chain([primary_nm].iter()) {
+                            if let Err(e) = glass.index(nm) {
+                                findings.push(Finding {
+                                    severity: Severity::Error,
+                                    surface: Some(i + 1),
+                                    field: Some("glass"),
+                                    message: format!("{e}: choose another glass or wavelengths within its range"),
+                                });
+                                bad = true;
+                                break;
+                            }
+                        }
+                        if !bad {
+                            surf.ior = glass.index(primary_nm).unwrap_or(1.0);
+                            surf.glass = Some(glasses.len());
+                            glasses.push(glass);
+                        }
+                    }
+                    Err(e) => findings.push(Finding {
+                        severity: Severity::Error,
+                        surface: Some(i + 1),
+                        field: Some("glass"),
+                        message: e.to_string(),
+                    }),
+                }
+            }
+            surfaces.push(surf);
+        }
         if has_errors(&findings) {
+            findings.sort_by_key(|f| f.surface.unwrap_or(0));
             return Err(findings);
         }
-        let surfaces: Vec<Surface> = spec.surfaces.iter().map(surface_from_spec).collect();
         let stop = surfaces.iter().position(|s| s.stop).ok_or_else(Vec::new)?;
-        Ok(Prescription { name: spec.name.clone().unwrap_or_default(), source: spec.source.clone(), surfaces, stop })
+        Ok(Prescription {
+            name: spec.name.clone().unwrap_or_default(),
+            source: spec.source.clone(),
+            surfaces,
+            stop,
+            glasses,
+            wavelengths_nm,
+            primary_nm,
+            wavelength_nm: primary_nm,
+            glass_catalogs: spec.glass_catalogs.clone(),
+        })
+    }
+
+    /// The same system at `wavelength_nm`: every glass's index at that
+    /// wavelength (constant indices unchanged, to the bit). Errors where a
+    /// glass has no data there.
+    ///
+    /// ```
+    /// let p = lens::Prescription::from_json_str(r#"{"surfaces": [
+    ///   {"radius": 51.5, "thickness": 3.6, "glass": "SCHOTT:N-BK7", "semi_diameter": 12.7, "stop": true},
+    ///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
+    /// let blue = p.at_wavelength(486.1327).unwrap();
+    /// assert!(blue.surfaces()[0].ior > p.surfaces()[0].ior);
+    /// ```
+    pub fn at_wavelength(&self, wavelength_nm: f64) -> Result<Prescription, GlassError> {
+        let mut p = self.clone();
+        for s in &mut p.surfaces {
+            if let Some(g) = s.glass {
+                s.ior = self.glasses[g].index(wavelength_nm)?;
+            }
+        }
+        p.wavelength_nm = wavelength_nm;
+        Ok(p)
+    }
+
+    /// The wavelength the surfaces' indices are for, nm.
+    pub fn wavelength_nm(&self) -> f64 {
+        self.wavelength_nm
+    }
+
+    /// The primary wavelength, nm.
+    pub fn primary_wavelength_nm(&self) -> f64 {
+        self.primary_nm
+    }
+
+    /// The system's wavelengths, nm.
+    pub fn wavelengths_nm(&self) -> &[f64] {
+        &self.wavelengths_nm
+    }
+
+    /// The glasses the surfaces name.
+    pub fn glasses(&self) -> &[Glass] {
+        &self.glasses
+    }
+
+    /// The glass after surface `i` (0-based), if it has one.
+    pub fn glass_after(&self, i: usize) -> Option<&Glass> {
+        self.surfaces.get(i)?.glass.and_then(|g| self.glasses.get(g))
+    }
+
+    /// Whether any index depends on wavelength.
+    pub fn is_dispersive(&self) -> bool {
+        !self.glasses.is_empty()
     }
 
     /// The prescription as a file spec (radii, optional fields), for writing.
@@ -39,15 +169,27 @@ impl Prescription {
             name: (!self.name.is_empty()).then(|| self.name.clone()),
             source: self.source.clone(),
             units: Some("mm".into()),
+            wavelengths_nm: (self.wavelengths_nm != DEFAULT_WAVELENGTHS_NM).then(|| self.wavelengths_nm.clone()),
+            primary_wavelength_nm: (self.primary_nm != LINE_D_NM).then_some(self.primary_nm),
+            glass_catalogs: self.glass_catalogs.clone(),
             surfaces: self
                 .surfaces
                 .iter()
-                .map(|s| SurfaceSpec {
-                    radius: s.radius(),
-                    thickness: s.thickness,
-                    ior: (s.ior != 1.0).then_some(s.ior),
-                    semi_diameter: s.semi_diameter,
-                    stop: s.stop,
+                .map(|s| {
+                    let glass = s.glass.and_then(|g| self.glasses.get(g)).map(|g| {
+                        match (g.catalog.as_str(), g.catalog_nd, g.catalog_vd) {
+                            ("MODEL", Some(nd), Some(vd)) => GlassSpec::Model { nd, vd },
+                            _ => GlassSpec::Name(g.full_name()),
+                        }
+                    });
+                    SurfaceSpec {
+                        radius: s.radius(),
+                        thickness: s.thickness,
+                        ior: (glass.is_none() && s.ior != 1.0).then_some(s.ior),
+                        glass,
+                        semi_diameter: s.semi_diameter,
+                        stop: s.stop,
+                    }
                 })
                 .collect(),
         }
@@ -172,6 +314,7 @@ fn surface_from_spec(s: &SurfaceSpec) -> Surface {
         curvature: s.radius.map_or(0.0, |r| 1.0 / r),
         thickness: s.thickness,
         ior: s.ior.unwrap_or(1.0),
+        glass: None,
         semi_diameter: s.semi_diameter,
         stop: s.stop,
     }

@@ -28,12 +28,40 @@ pub struct PrescriptionSpec {
     /// Length unit; only `"mm"` is accepted (omitted means mm).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub units: Option<String>,
+    /// Wavelengths of the system, nm (default F, d, C: 486.1327, 587.5618,
+    /// 656.2725).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wavelengths_nm: Option<Vec<f64>>,
+    /// The primary wavelength, nm (default d, 587.5618): the pupils and the
+    /// image plane of the analyses are this wavelength's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub primary_wavelength_nm: Option<f64>,
+    /// Zemax AGF glass catalogues (paths relative to the prescription file)
+    /// searched before the shipped ones.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub glass_catalogs: Option<Vec<String>>,
     /// Surfaces, object side first.
     pub surfaces: Vec<SurfaceSpec>,
 }
 
+/// The glass after a surface: a catalogue name or a model glass.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum GlassSpec {
+    /// `VENDOR:NAME` (vendor in any case), or `NAME` where one loaded
+    /// catalogue has it.
+    Name(String),
+    /// A model glass reproducing nd and vd exactly (docs/glass.md).
+    Model {
+        /// Index at the d line, 587.5618 nm.
+        nd: f64,
+        /// Abbe number (nd - 1) / (nF - nC).
+        vd: f64,
+    },
+}
+
 /// One surface as written in a prescription file. Lengths in mm.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SurfaceSpec {
     /// Radius of curvature in mm, + when the centre lies toward the image;
@@ -42,9 +70,13 @@ pub struct SurfaceSpec {
     pub radius: Option<f64>,
     /// Axial distance to the next surface (last surface: to the film), mm.
     pub thickness: f64,
-    /// Index of the medium after this surface; omitted means air (1.0).
+    /// Index of the medium after this surface, constant at every
+    /// wavelength; omitted (with no `glass`) means air (1.0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ior: Option<f64>,
+    /// The glass after this surface (instead of `ior`): dispersive.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub glass: Option<GlassSpec>,
     /// Clear-aperture radius in mm; omitted means the surface does not clip.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub semi_diameter: Option<f64>,

@@ -13,8 +13,12 @@ pub struct Surface {
     pub curvature: f64,
     /// Axial distance to the next vertex (or the film), mm, >= 0.
     pub thickness: f64,
-    /// Refractive index of the medium after this surface (1.0 = air).
+    /// Refractive index of the medium after this surface (1.0 = air), at
+    /// the prescription's wavelength ([`super::Prescription::wavelength_nm`]).
     pub ior: f64,
+    /// The glass after this surface, an index into
+    /// [`super::Prescription::glasses`]; `None` for a constant index.
+    pub glass: Option<usize>,
     /// Clear-aperture radius in mm; `None` means the surface does not clip.
     pub semi_diameter: Option<f64>,
     /// Whether this surface is the aperture stop.

@@ -48,6 +48,27 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
             );
         }
     }
+    let good_nm = |w: &f64| w.is_finite() && *w > 0.0;
+    if let Some(w) = &spec.wavelengths_nm {
+        if w.is_empty() || !w.iter().all(good_nm) {
+            out.push(
+                Severity::Error,
+                None,
+                Some("wavelengths_nm"),
+                "wavelengths_nm must list at least one positive wavelength in nm".into(),
+            );
+        }
+    }
+    if let Some(w) = spec.primary_wavelength_nm {
+        if !good_nm(&w) {
+            out.push(
+                Severity::Error,
+                None,
+                Some("primary_wavelength_nm"),
+                format!("primary_wavelength_nm = {w}: give a positive wavelength in nm"),
+            );
+        }
+    }
     if spec.surfaces.is_empty() {
         out.push(Severity::Error, None, Some("surfaces"), "no surfaces: list at least one surface".into());
         return out.0;
@@ -124,6 +145,18 @@ fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
             format!("thickness {} mm is negative: give the axial distance to the next surface (>= 0)", s.thickness),
         );
     }
+    if s.ior.is_some() && s.glass.is_some() {
+        out.error(
+            n,
+            "glass",
+            "both \"ior\" and \"glass\" are given: keep one (a glass for a dispersive medium, ior for a constant index)".into(),
+        );
+    }
+    if let Some(super::spec::GlassSpec::Model { nd, vd }) = s.glass {
+        if !(nd.is_finite() && nd > 1.0 && vd.is_finite() && vd > 0.0) {
+            out.error(n, "glass", format!("model glass nd = {nd}, vd = {vd}: give nd > 1 and vd > 0"));
+        }
+    }
     if let Some(ior) = s.ior {
         if !ior.is_finite() || ior < 1.0 {
             out.error(n, "ior", format!("ior {ior} is not a refractive index >= 1 (1.0 is air; omit it for air)"));
@@ -198,8 +231,9 @@ fn check_edge(out: &mut Findings, spec: &PrescriptionSpec, i: usize) {
     // Tolerance for rounding in the sags of surfaces that touch at the rim.
     let tol = 1e-9 * (1.0 + a.thickness.abs() + h_max);
     if worst.0 < -tol {
-        let medium = match a.ior {
-            Some(n) if n != 1.0 => "glass",
+        let medium = match (a.ior, &a.glass) {
+            (_, Some(_)) => "glass",
+            (Some(n), _) if n != 1.0 => "glass",
             _ => "air",
         };
         out.error(

@@ -4,7 +4,7 @@
 use lens::{Prescription, PrescriptionSpec, SurfaceSpec};
 
 pub fn surf(radius: Option<f64>, thickness: f64, ior: Option<f64>, sd: f64, stop: bool) -> SurfaceSpec {
-    SurfaceSpec { radius, thickness, ior, semi_diameter: Some(sd), stop }
+    SurfaceSpec { radius, thickness, ior, glass: None, semi_diameter: Some(sd), stop }
 }
 
 /// A singlet: radii r1, r2 (None = plane), centre thickness t, index n,
@@ -22,6 +22,9 @@ pub fn singlet(r1: Option<f64>, r2: Option<f64>, t: f64, n: f64, sd: f64, film: 
         sd *= 0.9;
     }
     let spec = PrescriptionSpec {
+        wavelengths_nm: None,
+        primary_wavelength_nm: None,
+        glass_catalogs: None,
         name: None,
         source: None,
         units: None,

@@ -59,7 +59,7 @@ pub enum FieldError {
     Camera(#[from] CameraError),
     /// The prescription could not be loaded.
     #[error(transparent)]
-    Lens(#[from] lens::LoadError),
+    Lens(Box<lens::LoadError>),
     /// The prescription could not be set up as asked.
     #[error(transparent)]
     Optics(#[from] lens::OpticsError),
@@ -77,6 +77,12 @@ pub enum FieldError {
     /// An environment image could not be read.
     #[error(transparent)]
     Image(#[from] crate::image::ImageError),
+}
+
+impl From<lens::LoadError> for FieldError {
+    fn from(e: lens::LoadError) -> Self {
+        FieldError::Lens(Box::new(e))
+    }
 }
 
 impl From<String> for FieldError {

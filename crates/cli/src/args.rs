@@ -151,6 +151,25 @@ pub struct PlotArgs {
     pub plot: Option<PathBuf>,
 }
 
+/// `--plot OUT` with `--plot-fields` for the analyses at one field.
+#[derive(clap::Args, Debug, Clone)]
+pub struct FieldPlotArgs {
+    /// Write a plot (.svg or .png).
+    #[arg(long, value_name = "OUT")]
+    pub plot: Option<PathBuf>,
+    /// Plot these field angles (degrees, comma-separated) instead of
+    /// --field-deg alone.
+    #[arg(long, value_name = "DEG,DEG", value_parser = parse_list)]
+    pub plot_fields: Option<std::vec::Vec<f64>>,
+}
+
+impl FieldPlotArgs {
+    /// The fields to plot: --plot-fields, or the analysed field alone.
+    pub fn fields(&self, field_deg: f64) -> std::vec::Vec<f64> {
+        self.plot_fields.clone().unwrap_or_else(|| vec![field_deg])
+    }
+}
+
 /// Parses "a,b,c" into numbers; `inf` allowed.
 pub fn parse_list(s: &str) -> Result<Vec<f64>, String> {
     s.split(',')

@@ -1,6 +1,6 @@
 //! `lens fan`: tangential and sagittal ray fans at one field.
 
-use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
+use crate::args::{AimArgs, FieldArgs, FieldPlotArgs, JsonArgs, LensArgs, PlaneArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::fan::fan_traced;
 use lens::analysis::{Field, Launcher};
@@ -25,11 +25,7 @@ pub struct Args {
     #[command(flatten)]
     out: JsonArgs,
     #[command(flatten)]
-    plot: PlotArgs,
-    /// Plot these field angles (degrees, comma-separated) instead of
-    /// --field-deg alone.
-    #[arg(long, value_name = "DEG,DEG", value_parser = parse_list)]
-    plot_fields: Option<std::vec::Vec<f64>>,
+    plot: FieldPlotArgs,
 }
 
 pub fn run(a: Args) -> CmdResult {
@@ -44,7 +40,7 @@ pub fn run(a: Args) -> CmdResult {
     };
     let fan = fan_at(a.field.field_deg)?;
     if let Some(out) = &a.plot.plot {
-        let fields = a.plot_fields.clone().unwrap_or_else(|| vec![a.field.field_deg]);
+        let fields = a.plot.fields(a.field.field_deg);
         let fans = fields.into_iter().map(fan_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::fan::fan_chart(&fans, p.name()), out)?;
     }

@@ -1,6 +1,6 @@
 //! `lens spot`: spot diagram statistics at one field.
 
-use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
+use crate::args::{AimArgs, FieldArgs, FieldPlotArgs, JsonArgs, LensArgs, PlaneArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::pattern::Pattern;
 use lens::analysis::{spot::spot_traced, Field, Launcher};
@@ -43,11 +43,7 @@ pub struct Args {
     #[command(flatten)]
     out: JsonArgs,
     #[command(flatten)]
-    plot: PlotArgs,
-    /// Plot these field angles (degrees, comma-separated) instead of
-    /// --field-deg alone.
-    #[arg(long, value_name = "DEG,DEG", value_parser = parse_list)]
-    plot_fields: Option<std::vec::Vec<f64>>,
+    plot: FieldPlotArgs,
 }
 
 pub fn run(args: Args) -> CmdResult {
@@ -66,7 +62,7 @@ pub fn run(args: Args) -> CmdResult {
     let field_deg = args.field.field_deg;
     let s = spot_at(field_deg)?;
     if let Some(out) = &args.plot.plot {
-        let fields = args.plot_fields.clone().unwrap_or_else(|| vec![field_deg]);
+        let fields = args.plot.fields(field_deg);
         let spots = fields.into_iter().map(spot_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::spot::spot_chart(&spots, p.name()), out)?;
     }

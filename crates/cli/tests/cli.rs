@@ -261,3 +261,27 @@ fn glass_json_has_the_contract_keys() {
     assert_eq!(code, 1);
     assert!(err.contains("N-BK7"), "{err}");
 }
+
+/// Every plotting flag parses and writes its picture (SVG).
+#[test]
+fn plots_are_written() {
+    let dir = std::env::temp_dir().join(format!("lens-plots-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = |name: &str| dir.join(name).display().to_string();
+    let dg = "lens-data/double-gauss-50mm.json";
+    for args in [
+        vec!["fan", dg, "--plot-fields", "0,10", "--plot", &out("fan.svg")],
+        vec!["spot", dg, "--plot-fields", "0,10", "--plot", &out("spot.svg")],
+        vec!["coc", dg, "--focus-mm", "2000", "--distances", "1000,inf", "--plot", &out("coc.svg")],
+        vec!["field", dg, "--plot", &out("field.svg")],
+        vec!["layout", dg, "--fields", "0,10", "-o", &out("layout.svg")],
+        vec!["glass", "SCHOTT:N-BK7", "--plot", &out("glass.svg")],
+        vec!["glass", "--map", "--plot", &out("map.svg")],
+    ] {
+        let (code, _, err) = lens(&args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        let svg = std::fs::read_to_string(args.last().unwrap()).unwrap();
+        assert!(svg.starts_with("<svg") || svg.starts_with("<?xml"), "{args:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

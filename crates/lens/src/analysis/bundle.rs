@@ -22,6 +22,18 @@ pub enum Landing {
 }
 
 impl Landing {
+    /// The ray on the image plane of a field's chief ray, or the error
+    /// that says why the chief ray of `field` is lost.
+    pub fn chief(&self, field: super::Field) -> Result<Ray, OpticsError> {
+        match self {
+            Landing::Reached(r) => Ok(*r),
+            Landing::Stopped(o) => Err(OpticsError::ChiefRayLost { field: field.describe(), why: describe_outcome(o) }),
+            Landing::AimFailed => {
+                Err(OpticsError::ChiefRayLost { field: field.describe(), why: "real aiming found no chief ray".into() })
+            }
+        }
+    }
+
     /// The ray on the image plane, if it got there.
     pub fn reached(&self) -> Option<Ray> {
         match self {

@@ -2,7 +2,7 @@
 //! sagittal field curvature, longitudinal spherical aberration, and
 //! vignetting / relative illumination against field.
 
-use super::bundle::{describe_outcome, trace_rays, Bundle, Landing};
+use super::bundle::{trace_rays, Bundle, Landing};
 use super::launch::{Aim, Field, Launcher};
 use super::pattern::{points, Pattern};
 use crate::error::OpticsError;
@@ -123,17 +123,8 @@ pub fn distortion(p: &Prescription, field: Field, aim: Aim) -> Result<f64, Optic
 
 /// The chief ray's point on the tracer's image plane.
 fn chief(launcher: &Launcher, tracer: &Tracer) -> Result<[f64; 2], OpticsError> {
-    let b = Bundle::trace(launcher, tracer, vec![(0.0, 0.0)])?;
-    match b.landings[0] {
-        Landing::Reached(r) => Ok([r.origin.x, r.origin.y]),
-        Landing::Stopped(o) => {
-            Err(OpticsError::ChiefRayLost { field: launcher.field().describe(), why: describe_outcome(&o) })
-        }
-        Landing::AimFailed => Err(OpticsError::ChiefRayLost {
-            field: launcher.field().describe(),
-            why: "real aiming found no chief ray".into(),
-        }),
-    }
+    let r = Bundle::trace(launcher, tracer, vec![(0.0, 0.0)])?.landings[0].chief(launcher.field())?;
+    Ok([r.origin.x, r.origin.y])
 }
 
 fn chief_height(base: &Launcher, tracer: &Tracer, deg: f64) -> Result<f64, OpticsError> {
@@ -153,17 +144,9 @@ fn field_point(
     let launcher = base.at_field(Field::Angle(deg))?;
     let theta = deg.to_radians();
     let probes = Bundle::trace(&launcher, tracer, PROBES.to_vec())?;
-    let h = match probes.landings[0] {
-        Landing::Reached(r) => r.origin.y,
-        Landing::Stopped(o) => {
-            return Err(OpticsError::ChiefRayLost { field: Field::Angle(deg).describe(), why: describe_outcome(&o) })
-        }
-        Landing::AimFailed => {
-            return Err(OpticsError::ChiefRayLost {
-                field: Field::Angle(deg).describe(),
-                why: "real aiming found no chief ray".into(),
-            })
-        }
+    let h = {
+        let r = probes.landings[0].chief(Field::Angle(deg))?;
+        r.origin.y
     };
     let paraxial = first.efl * theta.tan();
     let distortion = if deg == 0.0 { 0.0 } else { 100.0 * (h - paraxial) / paraxial };

@@ -2,7 +2,7 @@
 //! (y error against py) and sagittal (x error against px), relative to the
 //! chief ray, on an image plane.
 
-use super::bundle::{describe_outcome, Bundle, Landing};
+use super::bundle::Bundle;
 use super::launch::{Aim, Field, Launcher};
 use crate::error::OpticsError;
 use crate::model::Prescription;
@@ -128,17 +128,9 @@ pub fn fan_traced(
     }
     let bundle = Bundle::trace(launcher, &tracer, points)?;
     let at = |i: usize| bundle.landings[i].reached().map(|r| [r.origin.x, r.origin.y]);
-    let chief = match bundle.landings[0] {
-        Landing::Reached(r) => [r.origin.x, r.origin.y],
-        Landing::Stopped(o) => {
-            return Err(OpticsError::ChiefRayLost { field: field.describe(), why: describe_outcome(&o) })
-        }
-        Landing::AimFailed => {
-            return Err(OpticsError::ChiefRayLost {
-                field: field.describe(),
-                why: "real aiming found no chief ray".into(),
-            })
-        }
+    let chief = {
+        let r = bundle.landings[0].chief(field)?;
+        [r.origin.x, r.origin.y]
     };
     let mut tangential = Vec::with_capacity(n);
     let mut sagittal = Vec::with_capacity(n);

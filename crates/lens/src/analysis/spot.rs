@@ -4,7 +4,7 @@
 //! in chunks, so a 50-million-ray spot never holds more than a chunk of
 //! rays at once.
 
-use super::bundle::{describe_outcome, launch, Bundle, Landing};
+use super::bundle::{launch, Bundle};
 use super::fan::ImagePlane;
 use super::launch::{Aim, Field, Launcher};
 use super::pattern::{for_each, Pattern};
@@ -174,17 +174,9 @@ pub fn spot_traced(
     }
     let image_z = plane.z(p, launcher)?;
     let tracer = Tracer::forward_to_film(traced, image_z - p.last_vertex_z());
-    let chief = match Bundle::trace(launcher, &tracer, vec![(0.0, 0.0)])?.landings[0] {
-        Landing::Reached(ray) => [ray.origin.x, ray.origin.y],
-        Landing::Stopped(o) => {
-            return Err(OpticsError::ChiefRayLost { field: field.describe(), why: describe_outcome(&o) })
-        }
-        Landing::AimFailed => {
-            return Err(OpticsError::ChiefRayLost {
-                field: field.describe(),
-                why: "real aiming found no chief ray".into(),
-            })
-        }
+    let chief = {
+        let ray = Bundle::trace(launcher, &tracer, vec![(0.0, 0.0)])?.landings[0].chief(field)?;
+        [ray.origin.x, ray.origin.y]
     };
     let mut hits = Vec::new();
     let mut weights = Vec::new();

@@ -107,7 +107,8 @@ impl Dispersion {
                     "Extended 2",
                     "Extended 3",
                 ];
-                format!("agf {formula} ({})", names.get(*formula as usize - 1).unwrap_or(&"?"))
+                let name = (*formula as usize).checked_sub(1).and_then(|k| names.get(k)).unwrap_or(&"unknown");
+                format!("agf {formula} ({name})")
             }
             Dispersion::Tabulated { .. } => "tabulated".into(),
             Dispersion::Model { .. } => "model (nd, vd)".into(),

@@ -143,11 +143,6 @@ impl RealLensCamera {
         self.norm
     }
 
-    /// The exit-pupil bounds.
-    pub fn tables(&self) -> &PupilTables {
-        &self.tables
-    }
-
     /// Mean estimator weight at the film centre (before normalisation), by
     /// 65,536 targets stratified over the centre's cells (a Kronecker
     /// sequence in the second coordinate): the centre's pupil integral to

@@ -112,23 +112,6 @@ pub enum PupilBounds {
     },
 }
 
-impl PupilBounds {
-    /// Area of the region targets are drawn from, mm^2 (the inverse of
-    /// their density).
-    pub fn area(&self) -> f64 {
-        match self {
-            PupilBounds::Empty => 0.0,
-            PupilBounds::Cells { whole, whole_side, sub, sub_side } => {
-                whole.len() as f64 * whole_side * whole_side + sub.len() as f64 * sub_side * sub_side
-            }
-            PupilBounds::Stop { area, .. } => *area,
-            PupilBounds::Star(fan) => fan.area(),
-            // the bounds of a film point are one bucket's, asked of it there
-            PupilBounds::Shaped { .. } => f64::NAN,
-        }
-    }
-}
-
 /// The bounds for every film radius.
 #[derive(Debug, Clone)]
 pub struct PupilTables {
@@ -272,11 +255,12 @@ impl PupilTables {
             (1.0, 0.0)
         };
         let rotate = |(x, y): (f64, f64)| (c * x - s * y, s * x + c * y);
-        let t = match b {
+        Some(match b {
             PupilBounds::Empty => return None,
             PupilBounds::Cells { whole, whole_side, sub, sub_side } => {
                 let w_area = whole.len() as f64 * whole_side * whole_side;
-                let share = w_area / b.area();
+                let area = w_area + sub.len() as f64 * sub_side * sub_side;
+                let share = w_area / area;
                 // the first uniform picks the size, then the cell, and its
                 // remainder places the point across the cell
                 let (cells, side, u) = if a.0 < share {
@@ -288,30 +272,24 @@ impl PupilTables {
                 let k = (scaled as usize).min(cells.len().checked_sub(1)?);
                 let [x0, y0] = cells[k];
                 let across = (scaled - k as f64).clamp(0.0, 1.0);
-                rotate((x0 + across * side, y0 + a.1 * side))
+                (area, rotate((x0 + across * side, y0 + a.1 * side)))
             }
-            PupilBounds::Star(fan) => rotate(fan.sample(a)),
+            PupilBounds::Star(fan) => (fan.area(), rotate(fan.sample(a))),
             PupilBounds::Shaped { period, buckets } => {
                 let phi = s.atan2(c).rem_euclid(*period);
                 let k = ((phi / period * buckets.len() as f64) as usize).min(buckets.len() - 1);
-                return Some((buckets[k].area(), rotate(buckets[k].sample(a))));
+                (buckets[k].area(), rotate(buckets[k].sample(a)))
             }
-            PupilBounds::Stop { inverse: m, offset, scale, .. } => {
+            PupilBounds::Stop { inverse: m, offset, scale, area } => {
                 let (shape, sd) = self.stop.as_ref()?;
                 // a stop point in the lens frame, turned into the bin's
                 // frame (film point on +x), mapped back, turned again
                 let (ux, uy) = shape.sample_uniform(a);
                 let (sx, sy) = (ux * scale * sd, uy * scale * sd);
                 let (qx, qy) = (c * sx + s * sy - offset[0], -s * sx + c * sy - offset[1]);
-                rotate((m[0] * qx + m[1] * qy, m[2] * qx + m[3] * qy))
+                (*area, rotate((m[0] * qx + m[1] * qy, m[2] * qx + m[3] * qy)))
             }
-        };
-        Some((b.area(), t))
-    }
-
-    /// Number of radial bins.
-    pub fn bins(&self) -> usize {
-        self.bins.len()
+        })
     }
 }
 
@@ -356,20 +334,4 @@ pub(super) fn passing_probes(probe: &Probe, radii: &[f64], rear: f64) -> Option<
     // grown by a probe step of whichever grid found the edge
     let grow = step.min((b[1] - b[0]).max(b[3] - b[2]).max(f64::MIN_POSITIVE));
     b[0].is_finite().then_some(([b[0] - grow, b[1] + grow, b[2] - grow, b[3] + grow], passed))
-}
-
-impl PupilTables {
-    /// How many bins use each kind of bounds: (empty, cells, star, stop).
-    pub fn kinds(&self) -> [usize; 4] {
-        let mut k = [0; 4];
-        for b in &self.bins {
-            k[match b {
-                PupilBounds::Empty => 0,
-                PupilBounds::Cells { .. } => 1,
-                PupilBounds::Star(_) | PupilBounds::Shaped { .. } => 2,
-                PupilBounds::Stop { .. } => 3,
-            }] += 1;
-        }
-        k
-    }
 }

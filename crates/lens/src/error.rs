@@ -92,6 +92,9 @@ fn object(d: &Option<f64>) -> String {
 /// Why a first-order (paraxial) or focusing computation has no answer.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum OpticsError {
+    /// A glass has no index at a wavelength asked for.
+    #[error(transparent)]
+    Glass(#[from] crate::glass::GlassError),
     /// The system has no optical power (afocal): no focal length or focus.
     #[error("the system is afocal (zero optical power): it has no focal length, focal points or focus")]
     Afocal,

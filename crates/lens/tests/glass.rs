@@ -178,7 +178,7 @@ mod prescriptions {
     /// wavelength, to the last bit.
     #[test]
     fn constant_indices_do_not_depend_on_wavelength() {
-        for f in ["double-gauss-50mm.json", "telephoto-250mm.json", "fisheye-10mm.json"] {
+        for f in ["pbrt/dgauss.50mm.dat", "telephoto-250mm.json", "fisheye-10mm.json", "wide-angle-22mm.json"] {
             let p = Prescription::load(data(f)).unwrap();
             assert!(!p.is_dispersive());
             let a = FirstOrder::of(&p).unwrap();

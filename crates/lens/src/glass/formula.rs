@@ -4,6 +4,8 @@
 //! functions here take nanometres and convert. Indices are relative to air,
 //! as the vendors' catalogues give them.
 
+use super::kernel::{Kernel, Lambda};
+
 /// How a glass's index depends on wavelength.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Dispersion {
@@ -79,9 +81,10 @@ fn at(c: &[f64], k: usize) -> f64 {
 
 impl Dispersion {
     /// A model glass that has exactly index `nd` at the d line and Abbe
-    /// number `vd`: the two-term Cauchy formula n(λ) = A + B / λ², with
-    /// B = (nd - 1) / (vd (λF⁻² - λC⁻²)) and A = nd - B / λd² (F, d, C the
-    /// lines of [`super::LINE_F_NM`] and the others).
+    /// number `vd`: the two-term Cauchy formula written about the d line,
+    /// n(λ) = nd + B (λ⁻² - λd⁻²), with B = (nd - 1) / (vd (λF⁻² - λC⁻²))
+    /// (F, d, C the lines of [`super::LINE_F_NM`] and the others; λ in µm).
+    /// n(λd) is nd to the bit; vd is reproduced to rounding (1e-13).
     pub fn model(nd: f64, vd: f64) -> Dispersion {
         Dispersion::Model { nd, vd }
     }
@@ -117,20 +120,26 @@ impl Dispersion {
 
     /// The index at `nm` nanometres (no range check: see
     /// [`super::Glass::index`]). NaN only where the formula itself has no
-    /// real value (which a valid range excludes).
+    /// real value (which a valid range excludes). The common forms are
+    /// evaluated by the code the batch tracer runs per ray
+    /// (`glass::kernel`), the others by [`Self::index_general`].
     pub fn index(&self, nm: f64) -> f64 {
+        match Kernel::of(self) {
+            Kernel::General => self.index_general(nm),
+            k => k.eval(&Lambda::of_nm(nm)),
+        }
+    }
+
+    /// The index at `nm` nanometres straight from the formula as written
+    /// (powers by `powf`, tabulated data interpolated): what
+    /// [`Self::index`] uses for the forms the kernel does not take.
+    pub fn index_general(&self, nm: f64) -> f64 {
         let l = nm * 1e-3;
-        let l2 = l * l;
         match self {
             Dispersion::Rii { formula, c } => rii(*formula, c, l),
             Dispersion::Agf { formula, c } => agf(*formula, c, l),
             Dispersion::Tabulated { nm: x, n } => interpolate(x, n, nm),
-            Dispersion::Model { nd, vd } => {
-                let inv = |w: f64| 1.0 / (w * 1e-3 * w * 1e-3);
-                let b = (nd - 1.0) / (vd * (inv(super::LINE_F_NM) - inv(super::LINE_C_NM)));
-                let a = nd - b * inv(super::LINE_D_NM);
-                a + b / l2
-            }
+            Dispersion::Model { .. } => Kernel::of(self).eval(&Lambda::of_nm(nm)),
         }
     }
 }

@@ -7,6 +7,7 @@
 pub mod agf;
 pub mod catalog;
 pub mod formula;
+pub(crate) mod kernel;
 
 pub use catalog::{Catalog, Catalogs};
 pub use formula::Dispersion;

@@ -6,6 +6,7 @@ use super::surface::Surface;
 use super::validate::validate;
 use crate::error::OpticsError;
 use crate::glass::{Catalogs, Glass, GlassError, LINE_C_NM, LINE_D_NM, LINE_F_NM};
+use std::sync::Arc;
 
 /// The wavelengths of a prescription that names none: F, d and C, nm.
 pub const DEFAULT_WAVELENGTHS_NM: [f64; 3] = [LINE_F_NM, LINE_D_NM, LINE_C_NM];
@@ -23,7 +24,7 @@ pub struct Prescription {
     surfaces: Vec<Surface>,
     stop: usize,
     /// The glasses the surfaces name ([`Surface::glass`] indexes them).
-    glasses: Vec<Glass>,
+    glasses: Arc<[Glass]>,
     /// The system's wavelengths, nm.
     wavelengths_nm: Vec<f64>,
     /// The primary wavelength, nm.
@@ -79,8 +80,12 @@ impl Prescription {
                         }
                         if !bad {
                             surf.ior = glass.index(primary_nm).unwrap_or(1.0);
-                            surf.glass = Some(glasses.len());
-                            glasses.push(glass);
+                            // one entry per distinct glass: the batch tracer
+                            // evaluates each once per ray
+                            surf.glass = Some(glasses.iter().position(|g| *g == glass).unwrap_or_else(|| {
+                                glasses.push(glass);
+                                glasses.len() - 1
+                            }));
                         }
                     }
                     Err(e) => findings.push(Finding {
@@ -103,7 +108,7 @@ impl Prescription {
             source: spec.source.clone(),
             surfaces,
             stop,
-            glasses,
+            glasses: glasses.into(),
             wavelengths_nm,
             primary_nm,
             wavelength_nm: primary_nm,
@@ -151,6 +156,11 @@ impl Prescription {
     /// The glasses the surfaces name.
     pub fn glasses(&self) -> &[Glass] {
         &self.glasses
+    }
+
+    /// The glasses, shared (what a tracer keeps to evaluate them per ray).
+    pub(crate) fn glasses_shared(&self) -> Arc<[Glass]> {
+        Arc::clone(&self.glasses)
     }
 
     /// The glass after surface `i` (0-based), if it has one.

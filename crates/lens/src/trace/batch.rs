@@ -12,14 +12,18 @@
 //! (idle lanes, statuses, the frame of each buffer), which read best in one
 //! place.
 
-#[cfg(target_arch = "x86_64")]
-use super::avx2::F64x4;
 use super::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]
-use super::step::{kind_of, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, CURVED, FLAT, PLANE};
+use super::spectral::ChunkIndices;
+#[cfg(target_arch = "x86_64")]
+use super::step::{
+    kind_of, lanes_at, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, CURVED, FLAT, PLANE,
+};
 use super::step::{Lane, PASSED};
 use super::tracer::Tracer;
 use crate::error::OpticsError;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::avx2::F64x4;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::{approach, Approach};
 use glam::DVec3;
@@ -114,11 +118,11 @@ impl RayBatch {
 /// next, so that its buffers (about 13 KiB) stay in the L1 cache. 64
 /// measured 5% faster than 32 and 15% faster than 128
 /// (docs/performance.md).
-const CHUNK: usize = 64;
+pub(super) const CHUNK: usize = 64;
 
 /// Vectors of four rays per chunk.
 #[cfg(target_arch = "x86_64")]
-const VECTORS: usize = CHUNK / 4;
+pub(super) const VECTORS: usize = CHUNK / 4;
 
 /// Bit `i` set where `status[i]` is not 0 (at most 64 entries), found
 /// without a branch per ray: stopped rays come in no pattern a branch
@@ -351,7 +355,7 @@ impl Tracer {
         #[cfg(target_arch = "x86_64")]
         if simd_fma() {
             // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
-            unsafe { self.trace_soa_avx2(batch) };
+            unsafe { self.trace_soa_avx2::<false>(batch, &[], &mut ChunkIndices::default()) };
             return;
         }
         self.trace_soa_portable(batch)
@@ -414,10 +418,17 @@ impl Tracer {
         self.classify(ray, opl, k, kind)
     }
 
-    /// [`Self::trace_soa`] on AVX2 + FMA, a chunk at a time.
+    /// [`Self::trace_soa`] on AVX2 + FMA, a chunk at a time; with
+    /// `PER_RAY`, each ray at its own wavelength (`wavelength_nm`, one per
+    /// ray), the glasses' indices evaluated into `ix` for each chunk.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    fn trace_soa_avx2(&self, batch: &mut RayBatch) {
+    pub(super) fn trace_soa_avx2<const PER_RAY: bool>(
+        &self,
+        batch: &mut RayBatch,
+        wavelength_nm: &[f64],
+        ix: &mut ChunkIndices,
+    ) {
         let mut c = Chunk::new();
         let last_z = self.steps[self.steps.len() - 1].vertex_z;
         let n = batch.len();
@@ -442,7 +453,10 @@ impl Tracer {
                 c.put(i, batch.lane(start + i), batch.status[start + i]);
             }
             prefetch_rays(batch, start + m..(start + 2 * m).min(n));
-            self.trace_chunk(&mut c, m);
+            if PER_RAY {
+                self.chunk_indices(&wavelength_nm[r.clone()], ix);
+            }
+            self.trace_chunk::<PER_RAY>(&mut c, m, ix);
             let fin = &c.live[self.steps.len() % 2];
             for (to, from) in [
                 (&mut batch.x, &fin.x),
@@ -501,7 +515,7 @@ impl Tracer {
                     c.put(i, Lane { px: o.x, py: o.y, pz: o.z, dx: d.x, dy: d.y, dz: d.z, opl: 0.0 }, 0);
                 }
             }
-            self.trace_chunk(&mut c, m);
+            self.trace_chunk::<false>(&mut c, m, &ChunkIndices::default());
             // every ray as reached, without a branch per ray; then the few
             // that stopped
             let fin = &c.live[self.steps.len() % 2];
@@ -522,16 +536,16 @@ impl Tracer {
     /// Runs every step over the first `m` rays of the chunk.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    fn trace_chunk(&self, c: &mut Chunk, m: usize) {
+    fn trace_chunk<const PER_RAY: bool>(&self, c: &mut Chunk, m: usize, ix: &ChunkIndices) {
         let n = c.pad(m);
         for (k, s) in self.steps.iter().enumerate() {
             match (s.refract, s.shape) {
-                (true, PLANE) => step_chunk::<true, PLANE>(s, k, c, n),
-                (true, FLAT) => step_chunk::<true, FLAT>(s, k, c, n),
-                (true, _) => step_chunk::<true, CURVED>(s, k, c, n),
-                (false, PLANE) => step_chunk::<false, PLANE>(s, k, c, n),
-                (false, FLAT) => step_chunk::<false, FLAT>(s, k, c, n),
-                (false, _) => step_chunk::<false, CURVED>(s, k, c, n),
+                (true, PLANE) => step_chunk::<true, PLANE, PER_RAY>(s, k, c, n, ix),
+                (true, FLAT) => step_chunk::<true, FLAT, PER_RAY>(s, k, c, n, ix),
+                (true, _) => step_chunk::<true, CURVED, PER_RAY>(s, k, c, n, ix),
+                (false, PLANE) => step_chunk::<false, PLANE, PER_RAY>(s, k, c, n, ix),
+                (false, FLAT) => step_chunk::<false, FLAT, PER_RAY>(s, k, c, n, ix),
+                (false, _) => step_chunk::<false, CURVED, PER_RAY>(s, k, c, n, ix),
             }
         }
     }
@@ -568,7 +582,13 @@ fn approach_vector(sl: &StepLanes<F64x4>, rays: &Rays4, j: usize, to: &mut Appro
 /// several vectors at once (docs/performance.md).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn step_chunk<const REFRACT: bool, const SHAPE: u8>(s: &Step, k: usize, c: &mut Chunk, n: usize) {
+fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
+    s: &Step,
+    k: usize,
+    c: &mut Chunk,
+    n: usize,
+    ix: &ChunkIndices,
+) {
     let sl = StepLanes::<F64x4>::of(s);
     let n = n.min(VECTORS);
     let Chunk { live: [a, b], done, status, approach, alive } = c;
@@ -582,6 +602,8 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8>(s: &Step, k: usize, c: &mut 
     // j indexes a dozen arrays in step
     #[allow(clippy::needless_range_loop)]
     for j in 0..n {
+        // each ray's own indices (a batch of mixed wavelengths)
+        let sl = if PER_RAY { lanes_at(sl, s, &ix.vector(j)) } else { sl };
         let p = [F64x4::load(&src.x[j]), F64x4::load(&src.y[j]), F64x4::load(&src.z[j])];
         let d = [F64x4::load(&src.dx[j]), F64x4::load(&src.dy[j]), F64x4::load(&src.dz[j])];
         let opl = F64x4::load(&src.opl[j]);

@@ -2,19 +2,18 @@
 //! one direction of travel; [`step`] carries rays across one surface
 //! (intersection, clear aperture, refraction, verdict), written once over a
 //! lane type (`lanes`) so that the one-ray path and the batch ([`batch`],
-//! AVX2 vectors of four rays) give the same bits. [`mod@bench`] is the
+//! AVX2 vectors of four rays) give the same bits. [`spectral`] traces rays of mixed wavelengths in one batch. [`mod@bench`] is the
 //! reproducible workload behind `lens bench`.
 
-#[cfg(target_arch = "x86_64")]
-mod avx2;
 pub mod batch;
 pub mod bench;
-mod lanes;
 pub mod ray;
+pub mod spectral;
 pub mod step;
 pub mod tracer;
 
 pub use batch::RayBatch;
 pub use ray::{Outcome, Ray};
+pub use spectral::SpectralBatch;
 pub use step::{intersect, refract, Hit};
 pub use tracer::Tracer;

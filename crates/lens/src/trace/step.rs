@@ -12,8 +12,8 @@
 //! step - intersection, refraction, verdicts - reads top to bottom in one
 //! place, the order a ray meets them.
 
-use super::lanes::{Mask, Real};
 use crate::model::Surface;
+use crate::simd::lanes::{Mask, Real};
 use glam::DVec3;
 
 /// Where a ray meets a sphere: the signed distance along the ray and the hit.
@@ -271,6 +271,14 @@ pub(crate) struct Step {
     pub mu: f64,
     /// Index of the medium the ray crosses to reach this surface.
     pub n_before: f64,
+    /// Index of the medium after the surface.
+    pub n_after: f64,
+    /// The tracer's glass (an index into its list) before the surface,
+    /// [`NO_GLASS`] for a constant index: a batch of mixed wavelengths
+    /// takes each ray's own index of it.
+    pub glass_before: u32,
+    /// The glass after the surface, as `glass_before`.
+    pub glass_after: u32,
     /// Subtracted from the ray's z to go from the previous frame to this one.
     pub shift: f64,
     /// Global z of this step's vertex, mm.
@@ -282,6 +290,9 @@ pub(crate) struct Step {
     /// How the surface is met: [`PLANE`], [`FLAT`] or [`CURVED`].
     pub shape: u8,
 }
+
+/// [`Step::glass_before`] of a medium of constant index.
+pub(crate) const NO_GLASS: u32 = u32::MAX;
 
 /// A plane (`c == 0`): met by [`meet_plane`], no square root.
 pub(crate) const PLANE: u8 = 0;
@@ -401,11 +412,55 @@ impl<L: Real> StepLanes<L> {
         }
     }
 
+    /// The step's numbers with the indices `n_before` and `n_after` of
+    /// each lane and their ratio `mu` (`n_before / n_after`, as the caller
+    /// has it): what a ray of its own wavelength meets. With the indices
+    /// of one wavelength this is [`Self::of`] of that wavelength's step, to
+    /// the bit.
+    #[inline(always)]
+    pub(crate) fn with_indices(self, n_before: L, mu: L) -> Self {
+        StepLanes { mu, mu2: mu * mu, one_minus_mu2: (-mu).fma(mu, L::splat(1.0)), n_before, ..self }
+    }
+
     /// Snell's `k` at this step for the squared cosine of incidence `cos2`.
     #[inline(always)]
     fn k(&self, cos2: L) -> L {
         snell_k(self.mu2, self.one_minus_mu2, cos2)
     }
+}
+
+/// Each ray's index of each glass: what [`lanes_at`] reads.
+pub(crate) trait Indices<L> {
+    /// The index of glass `g`.
+    fn n(&self, g: usize) -> L;
+    /// `1 / n(g)`, as computed once for the rays.
+    fn inv(&self, g: usize) -> L;
+}
+
+/// The numbers of step `s` for rays each at its own wavelength: `sl` (the
+/// step's own numbers) with the indices of the step's glasses taken per
+/// lane from `ix`. The ratio `mu` is formed as the one-wavelength step
+/// forms `n1 / n2`, so the bits agree: `n1 / 1 = n1` for a glass into air,
+/// the inverse for air into a glass.
+#[inline(always)]
+pub(crate) fn lanes_at<L: Real>(sl: StepLanes<L>, s: &Step, ix: &impl Indices<L>) -> StepLanes<L> {
+    let (gb, ga) = (s.glass_before, s.glass_after);
+    if gb == NO_GLASS && ga == NO_GLASS {
+        return sl;
+    }
+    let nb = if gb == NO_GLASS { L::splat(s.n_before) } else { ix.n(gb as usize) };
+    let mu = if ga == NO_GLASS {
+        if s.n_after == 1.0 {
+            nb
+        } else {
+            nb / L::splat(s.n_after)
+        }
+    } else if gb == NO_GLASS && s.n_before == 1.0 {
+        ix.inv(ga as usize)
+    } else {
+        nb / ix.n(ga as usize)
+    };
+    sl.with_indices(nb, mu)
 }
 
 /// What one step does to rays, per lane.
@@ -531,12 +586,27 @@ pub(crate) fn step_dispatch<L: Real>(s: &Step, k: &StepLanes<L>, l: Lane<L>) -> 
     }
 }
 
-pub(crate) fn surface_step(surf: &Surface, i: usize, n1: f64, n2: f64, shift: f64, vertex_z: f64) -> Step {
+/// The step for surface `surf` (0-based index `i`) crossed from index `n1`
+/// (glass `g1`, if any) into `n2` (glass `g2`), `shift` mm from the previous
+/// frame, its vertex at global `vertex_z`.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn surface_step(
+    surf: &Surface,
+    i: usize,
+    (n1, g1): (f64, Option<usize>),
+    (n2, g2): (f64, Option<usize>),
+    shift: f64,
+    vertex_z: f64,
+) -> Step {
+    let id = |g: Option<usize>| g.map_or(NO_GLASS, |g| g as u32);
     Step {
         c: surf.curvature,
         sd2: surf.semi_diameter.map_or(f64::INFINITY, |r| r * r),
         mu: n1 / n2,
         n_before: n1,
+        n_after: n2,
+        glass_before: id(g1),
+        glass_after: id(g2),
         shift,
         vertex_z,
         surface: i,

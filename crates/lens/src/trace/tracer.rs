@@ -6,8 +6,11 @@
 
 use super::ray::{Outcome, Ray};
 use super::step::*;
+use crate::glass::kernel::Kernel;
+use crate::glass::Glass;
 use crate::model::Prescription;
 use glam::DVec3;
+use std::sync::Arc;
 
 /// A prescription laid out for tracing in one direction. Cheap to build;
 /// build once and trace many rays.
@@ -26,6 +29,12 @@ use glam::DVec3;
 #[derive(Debug, Clone, PartialEq)]
 pub struct Tracer {
     pub(crate) steps: Vec<Step>,
+    /// The prescription's glasses, which [`Step::glass_before`] and
+    /// `glass_after` index: a batch of mixed wavelengths evaluates them
+    /// per ray (`trace::spectral`).
+    pub(crate) glasses: Arc<[Glass]>,
+    /// Each glass's formula as the kernel evaluates it.
+    pub(crate) kernels: Vec<Kernel>,
 }
 
 impl Tracer {
@@ -43,8 +52,15 @@ impl Tracer {
             .iter()
             .enumerate()
             .map(|(i, surf)| {
-                let n1 = p.index_before(i);
-                surface_step(surf, i, n1, surf.ior, if i == 0 { 0.0 } else { s[i - 1].thickness }, z[i])
+                let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
+                surface_step(
+                    surf,
+                    i,
+                    before,
+                    (surf.ior, surf.glass),
+                    if i == 0 { 0.0 } else { s[i - 1].thickness },
+                    z[i],
+                )
             })
             .collect();
         let last = s.len() - 1;
@@ -53,13 +69,23 @@ impl Tracer {
             sd2: f64::INFINITY,
             mu: 1.0,
             n_before: s[last].ior,
+            n_after: s[last].ior,
+            glass_before: s[last].glass.map_or(NO_GLASS, |g| g as u32),
+            glass_after: s[last].glass.map_or(NO_GLASS, |g| g as u32),
             shift: film_distance,
             vertex_z: z[last] + film_distance,
             surface: s.len(),
             refract: false,
             shape: PLANE,
         });
-        Tracer { steps }
+        Tracer::with_glasses(steps, p)
+    }
+
+    /// A tracer of `steps` through the glasses of `p`.
+    fn with_glasses(steps: Vec<Step>, p: &Prescription) -> Self {
+        let glasses = p.glasses_shared();
+        let kernels = glasses.iter().map(|g| Kernel::of(&g.dispersion)).collect();
+        Tracer { steps, glasses, kernels }
     }
 
     /// From image space (the film) back to object space. The ray starts in
@@ -84,10 +110,11 @@ impl Tracer {
             .rev()
             .map(|i| {
                 let shift = if i == hi - 1 { z[i] } else { -s[i].thickness };
-                surface_step(&s[i], i, s[i].ior, p.index_before(i), shift, z[i])
+                let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
+                surface_step(&s[i], i, (s[i].ior, s[i].glass), before, shift, z[i])
             })
             .collect();
-        Tracer { steps }
+        Tracer::with_glasses(steps, p)
     }
 
     /// Object space to the stop surface, with no clear aperture clipping:

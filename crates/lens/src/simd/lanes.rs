@@ -2,7 +2,7 @@
 //!
 //! The intersection, refraction and step kernels are written once, generic
 //! over [`Real`]: `f64` traces one ray (the one-ray path), and
-//! `super::avx2::F64x4` four rays at a time in AVX2 registers (the batch
+//! `crate::simd::avx2::F64x4` four rays at a time in AVX2 registers (the batch
 //! path). Every operation of the trait is one IEEE 754 operation with the
 //! same rounding in both (a `mul_add` is one fused multiply-add, rounded
 //! once; comparisons are ordered, false on NaN), so both paths give the same

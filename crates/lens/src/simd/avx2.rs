@@ -3,10 +3,10 @@
 //!
 //! Values of these types are made only inside functions compiled with
 //! `#[target_feature(enable = "avx2,fma")]`, which the batch tracer calls
-//! only after [`super::step::simd_fma`] found both extensions; every
+//! only after `trace::step::simd_fma` found both extensions; every
 //! intrinsic below relies on that.
 
-use super::lanes::{Mask, Real, SIGN};
+use crate::simd::lanes::{Mask, Real, SIGN};
 use std::arch::x86_64::*;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 

@@ -1,0 +1,323 @@
+//! Rays of mixed wavelengths in one batch. Each ray carries its
+//! wavelength; the tracer evaluates every glass's index for each ray (the
+//! formulas written once over the lane type, `glass::kernel`, four rays at
+//! a time) and refracts each ray with its own indices. A ray traced here
+//! ends exactly where the one-wavelength tracer of
+//! [`Prescription::at_wavelength`](crate::Prescription::at_wavelength) at
+//! its wavelength puts it, to the bit; constant indices are the same at
+//! every wavelength.
+
+use super::batch::RayBatch;
+#[cfg(target_arch = "x86_64")]
+use super::batch::VECTORS;
+use super::ray::{Outcome, Ray};
+use super::step::{lanes_at, step_dispatch, stopped, Indices, Lane, StepLanes, NO_GLASS, PASSED};
+use super::tracer::Tracer;
+use crate::error::OpticsError;
+use crate::glass::kernel::{Kernel, Lambda};
+#[cfg(target_arch = "x86_64")]
+use crate::simd::avx2::F64x4;
+#[cfg(target_arch = "x86_64")]
+use crate::simd::lanes::Real;
+
+/// Rays and the wavelength of each: a [`RayBatch`] with one more array.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct SpectralBatch {
+    /// The rays (global frame, mm); after [`Tracer::trace_spectral`], where
+    /// and how each ended, as for [`Tracer::trace_soa`].
+    pub rays: RayBatch,
+    /// The wavelength of each ray, nm (in air, as the catalogues' indices
+    /// are), one per ray.
+    pub wavelength_nm: Vec<f64>,
+}
+
+impl SpectralBatch {
+    /// An empty batch with room for `n` rays.
+    pub fn with_capacity(n: usize) -> Self {
+        SpectralBatch { rays: RayBatch::with_capacity(n), wavelength_nm: Vec::with_capacity(n) }
+    }
+
+    /// Appends a ray of wavelength `wavelength_nm` (status 0, path length 0).
+    pub fn push(&mut self, r: Ray, wavelength_nm: f64) {
+        self.rays.push(r);
+        self.wavelength_nm.push(wavelength_nm);
+    }
+
+    /// Number of rays.
+    pub fn len(&self) -> usize {
+        self.rays.len()
+    }
+
+    /// Whether the batch is empty.
+    pub fn is_empty(&self) -> bool {
+        self.rays.is_empty()
+    }
+
+    /// Removes every ray, keeping the allocations.
+    pub fn clear(&mut self) {
+        self.rays.clear();
+        self.wavelength_nm.clear();
+    }
+}
+
+/// Each glass's index for the rays of one chunk, four rays per vector, and
+/// its inverse where a ray enters the glass from air.
+#[derive(Default)]
+pub(crate) struct ChunkIndices {
+    #[cfg(target_arch = "x86_64")]
+    pub(super) n: Vec<[[f64; 4]; VECTORS]>,
+    #[cfg(target_arch = "x86_64")]
+    pub(super) inv: Vec<[[f64; 4]; VECTORS]>,
+    /// Whether a ray enters glass `g` from index 1 (and so takes `inv`).
+    from_air: Vec<bool>,
+    /// Whether a glass's formula takes 1/λ² (the Sellmeier ones do not).
+    inv_l2: bool,
+}
+
+/// The indices of vector `j` of a chunk.
+#[cfg(target_arch = "x86_64")]
+pub(super) struct Vector<'a> {
+    ix: &'a ChunkIndices,
+    j: usize,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl ChunkIndices {
+    /// The indices of the four rays of vector `j`.
+    #[inline(always)]
+    pub(super) fn vector(&self, j: usize) -> Vector<'_> {
+        Vector { ix: self, j }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Indices<F64x4> for Vector<'_> {
+    #[inline(always)]
+    fn n(&self, g: usize) -> F64x4 {
+        F64x4::load(&self.ix.n[g][self.j])
+    }
+    #[inline(always)]
+    fn inv(&self, g: usize) -> F64x4 {
+        F64x4::load(&self.ix.inv[g][self.j])
+    }
+}
+
+/// One ray's indices of each glass and their inverses.
+struct OneRay {
+    n: Vec<f64>,
+    inv: Vec<f64>,
+}
+
+impl Indices<f64> for OneRay {
+    #[inline(always)]
+    fn n(&self, g: usize) -> f64 {
+        self.n[g]
+    }
+    #[inline(always)]
+    fn inv(&self, g: usize) -> f64 {
+        self.inv[g]
+    }
+}
+
+impl Tracer {
+    /// Traces every ray of `batch` at its own wavelength, in place (as
+    /// [`Self::trace_soa`] does at the prescription's). Errors, tracing
+    /// nothing, when the batch's arrays differ in length or a wavelength
+    /// lies outside a glass's data (the error names the glass and its
+    /// range). A prescription without glasses traces as
+    /// [`Self::trace_soa`].
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use lens::{Prescription, Ray, Tracer, trace::SpectralBatch};
+    /// let p = Prescription::from_json_str(r#"{"surfaces": [
+    ///   {"radius": 51.5, "thickness": 3.6, "glass": "SCHOTT:N-BK7", "semi_diameter": 12.7, "stop": true},
+    ///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
+    /// let mut b = SpectralBatch::default();
+    /// let ray = Ray::new(DVec3::new(0.0, 5.0, -10.0), DVec3::Z).unwrap();
+    /// b.push(ray, 486.1327);
+    /// b.push(ray, 656.2725);
+    /// Tracer::forward(&p).trace_spectral(&mut b).unwrap();
+    /// // blue bends more: it crosses the axis sooner, so it lands lower
+    /// assert!(b.rays.y[0] < b.rays.y[1]);
+    /// ```
+    pub fn trace_spectral(&self, batch: &mut SpectralBatch) -> Result<(), OpticsError> {
+        if batch.wavelength_nm.len() != batch.rays.len() {
+            return Err(OpticsError::BadInput {
+                name: "wavelength_nm",
+                value: batch.wavelength_nm.len() as f64,
+                expected: "one wavelength per ray",
+            });
+        }
+        self.check_wavelengths(&batch.wavelength_nm)?;
+        if self.glasses.is_empty() {
+            self.trace_soa(&mut batch.rays);
+            return Ok(());
+        }
+        let t = self.spectral();
+        #[cfg(target_arch = "x86_64")]
+        if super::step::simd_fma() {
+            let mut ix = t.chunk_buffers();
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            unsafe { t.trace_soa_avx2::<true>(&mut batch.rays, &batch.wavelength_nm, &mut ix) };
+            return Ok(());
+        }
+        let rays = &mut batch.rays;
+        for (i, &nm) in batch.wavelength_nm.iter().enumerate() {
+            if rays.status[i] != 0 {
+                continue;
+            }
+            let l = Lane {
+                px: rays.x[i],
+                py: rays.y[i],
+                pz: rays.z[i],
+                dx: rays.dx[i],
+                dy: rays.dy[i],
+                dz: rays.dz[i],
+                opl: rays.opl[i],
+            };
+            let (l, k, kind) = t.walk_at(l, nm);
+            let z = l.pz + t.steps[k].vertex_z;
+            (rays.x[i], rays.y[i], rays.z[i]) = (l.px, l.py, z);
+            (rays.dx[i], rays.dy[i], rays.dz[i], rays.opl[i]) = (l.dx, l.dy, l.dz, l.opl);
+            rays.status[i] = if kind == PASSED { 0 } else { ((k as u64 + 1) << 2) | kind };
+        }
+        Ok(())
+    }
+
+    /// Traces one ray at `wavelength_nm`: what [`Self::trace_spectral`]
+    /// does to it in a batch, bit for bit. Errors outside a glass's data.
+    pub fn trace_at(&self, ray: Ray, wavelength_nm: f64) -> Result<Outcome, OpticsError> {
+        self.check_wavelengths(&[wavelength_nm])?;
+        let t = self.spectral();
+        let l = Lane {
+            px: ray.origin.x,
+            py: ray.origin.y,
+            pz: ray.origin.z,
+            dx: ray.direction.x,
+            dy: ray.direction.y,
+            dz: ray.direction.z,
+            opl: 0.0,
+        };
+        let (l, k, kind) = t.walk_at(l, wavelength_nm);
+        Ok(t.outcome(l, k, kind))
+    }
+
+    /// An error naming the first glass without data at one of the
+    /// wavelengths (checked at the shortest and the longest; NaN fails).
+    fn check_wavelengths(&self, nm: &[f64]) -> Result<(), OpticsError> {
+        // branch-free, so that it vectorises: the check costs well under a
+        // nanosecond a ray
+        let (mut lo, mut hi, mut nan) = (f64::INFINITY, f64::NEG_INFINITY, false);
+        for &w in nm {
+            lo = if w < lo { w } else { lo };
+            hi = if w > hi { w } else { hi };
+            nan |= w.is_nan();
+        }
+        if nan {
+            (lo, hi) = (f64::NAN, f64::NAN);
+        }
+        if nm.is_empty() {
+            return Ok(());
+        }
+        if !(lo > 0.0 && hi.is_finite()) {
+            let bad = nm.iter().copied().find(|w| !(w.is_finite() && *w > 0.0)).unwrap_or(lo);
+            return Err(OpticsError::BadInput {
+                name: "wavelength_nm",
+                value: bad,
+                expected: "a positive, finite wavelength in nm",
+            });
+        }
+        for g in self.glasses.iter() {
+            g.index(lo)?;
+            g.index(hi)?;
+        }
+        Ok(())
+    }
+
+    /// This tracer as a batch of mixed wavelengths runs it: a surface
+    /// between two different glasses refracts, whatever their indices at
+    /// the prescription's wavelength.
+    fn spectral(&self) -> Tracer {
+        let mut t = self.clone();
+        for s in &mut t.steps {
+            s.refract |= s.glass_before != s.glass_after;
+        }
+        t
+    }
+
+    /// Each glass's index at `nm` and its inverse, one ray.
+    fn indices_at(&self, nm: f64) -> OneRay {
+        let w = Lambda::<f64>::of_nm(nm);
+        let n: Vec<f64> = self
+            .kernels
+            .iter()
+            .zip(self.glasses.iter())
+            .map(|(k, g)| if *k == Kernel::General { g.dispersion.index_general(nm) } else { k.eval(&w) })
+            .collect();
+        let inv = n.iter().map(|n| 1.0 / n).collect();
+        OneRay { n, inv }
+    }
+
+    /// Carries one ray (global frame) at `nm` step by step until it stops,
+    /// as `walk_lane` does at the prescription's wavelength.
+    fn walk_at(&self, mut l: Lane<f64>, nm: f64) -> (Lane<f64>, usize, u64) {
+        let ix = self.indices_at(nm);
+        for (k, s) in self.steps.iter().enumerate() {
+            let sl = lanes_at(StepLanes::of(s), s, &ix);
+            let out = step_dispatch(s, &sl, l);
+            let kind = out.verdict.kind();
+            if kind != PASSED {
+                return (stopped(s, l, out.next, kind), k, kind);
+            }
+            l = out.next;
+        }
+        (l, self.steps.len() - 1, PASSED)
+    }
+
+    /// Index buffers for one chunk, one per glass.
+    #[cfg(target_arch = "x86_64")]
+    fn chunk_buffers(&self) -> ChunkIndices {
+        let v = [[0.0; 4]; VECTORS];
+        let g = self.glasses.len();
+        let from_air = (0..g)
+            .map(|g| {
+                self.steps.iter().any(|s| s.glass_after == g as u32 && s.glass_before == NO_GLASS && s.n_before == 1.0)
+            })
+            .collect();
+        let inv_l2 = self.kernels.iter().any(|k| !matches!(k, Kernel::Sellmeier { .. } | Kernel::General));
+        ChunkIndices { n: vec![v; g], inv: vec![v; g], from_air, inv_l2 }
+    }
+
+    /// Every glass's index (and inverse, where used) for the rays of one
+    /// chunk of wavelengths `nm` (at most a chunk), four at a time; idle
+    /// lanes past the end take the first ray's wavelength.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    pub(super) fn chunk_indices(&self, nm: &[f64], ix: &mut ChunkIndices) {
+        let mut w = [[nm[0]; 4]; VECTORS];
+        w.as_flattened_mut()[..nm.len()].copy_from_slice(nm);
+        let vectors = nm.len().div_ceil(4);
+        let mut lambda = [Lambda { l2: F64x4::splat(0.0), inv_l2: F64x4::splat(0.0) }; VECTORS];
+        for (l, wj) in lambda[..vectors].iter_mut().zip(&w) {
+            *l = if ix.inv_l2 { Lambda::of_nm(F64x4::load(wj)) } else { Lambda::squared_only(F64x4::load(wj)) };
+        }
+        for (g, (k, glass)) in self.kernels.iter().zip(self.glasses.iter()).enumerate() {
+            let out = &mut ix.n[g];
+            if *k == Kernel::General {
+                for (o, wj) in out[..vectors].iter_mut().zip(&w) {
+                    *o = wj.map(|nm| glass.dispersion.index_general(nm));
+                }
+            } else {
+                for (o, lj) in out[..vectors].iter_mut().zip(&lambda) {
+                    k.eval(lj).store(o);
+                }
+            }
+            if ix.from_air[g] {
+                for (o, n) in ix.inv[g][..vectors].iter_mut().zip(&ix.n[g]) {
+                    (F64x4::splat(1.0) / F64x4::load(n)).store(o);
+                }
+            }
+        }
+    }
+}

@@ -21,6 +21,7 @@ macro_rules! out {
 
 mod args;
 mod bench;
+mod chromatic;
 mod coc;
 mod convergence;
 mod convert;
@@ -62,6 +63,8 @@ enum Command {
     Coc(coc::Args),
     /// Distortion, field curvature, spherical aberration, vignetting.
     Field(field::Args),
+    /// Colour: focal shift, lateral colour, polychromatic spot, fans per wavelength.
+    Chromatic(chromatic::Args),
     /// A glass's index, nd, vd and range; its dispersion or the glass map as a plot.
     Glass(glass::Args),
     /// Draw the lens cross-section with ray bundles.
@@ -86,6 +89,7 @@ fn main() -> ExitCode {
         Command::Spot(a) => spot::run(a),
         Command::Coc(a) => coc::run(a),
         Command::Field(a) => field::run(a),
+        Command::Chromatic(a) => chromatic::run(a),
         Command::Glass(a) => glass::run(a),
         Command::Layout(a) => layout::run(a),
         Command::Convergence(a) => convergence::run(a),

@@ -4,6 +4,7 @@
 //! embedded font (Ubuntu Light, from `epaint_default_fonts`), as PNG. No
 //! system fonts and no display are needed, so pictures can be made in CI.
 
+pub mod chromatic;
 pub mod coc;
 pub mod fan;
 pub mod field;

@@ -8,6 +8,7 @@
 
 pub mod aperture;
 pub mod bundle;
+pub mod chromatic;
 pub mod coc;
 pub mod convergence;
 pub mod curves;

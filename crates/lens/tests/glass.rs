@@ -30,14 +30,44 @@ fn shipped_glasses_reproduce_their_vendors_nd_and_vd() {
     assert!(bad.len() * 100 <= checked, "{} of {checked}:\n{}", bad.len(), bad.join("\n"));
 }
 
-/// SCHOTT's N-BK7 data sheet: nd 1.51680, ne 1.51872, nF 1.52238, nC 1.51432.
+/// Vendor-published nd, ne, nF, nC (in that order) of thirteen glasses from
+/// four vendors, and one unit of their last published digit. From the
+/// vendors' own catalogue spreadsheets (SCHOTT.xls, OHARA.xlsx, HOYA.xlsx,
+/// HIKARI.xlsx, as the opticalglass 2.0.2 package ships them): measured
+/// indices, not values of the dispersion formulas.
+const DATA_SHEETS: [(&str, [f64; 4], f64); 13] = [
+    ("SCHOTT:N-BK7", [1.51680, 1.51872, 1.52238, 1.51432], 1e-5),
+    ("SCHOTT:F2", [1.62004, 1.62408, 1.63208, 1.61503], 1e-5),
+    ("SCHOTT:N-SF11", [1.78472, 1.79192, 1.80651, 1.77596], 1e-5),
+    ("SCHOTT:N-LAK22", [1.65113, 1.65391, 1.65925, 1.64760], 1e-5),
+    ("SCHOTT:SF5", [1.67270, 1.67764, 1.68750, 1.66661], 1e-5),
+    ("SCHOTT:N-SK16", [1.62041, 1.62286, 1.62756, 1.61727], 1e-5),
+    ("OHARA:S-LAH66", [1.77250, 1.77621, 1.78337, 1.76780], 1e-5),
+    ("OHARA:S-BAL35", [1.58913, 1.59143, 1.59582, 1.58619], 1e-5),
+    ("HOYA:BSC7", [1.51680, 1.51872, 1.52237, 1.51432], 1e-5),
+    ("HOYA:E-FD10", [1.72825, 1.73432, 1.74654, 1.72082], 1e-5),
+    ("HOYA:TAC8", [1.72916, 1.73234, 1.73844, 1.72510], 1e-5),
+    ("HIKARI:J-BK7A", [1.516800, 1.518723, 1.522382, 1.514324], 1e-6),
+    ("HIKARI:J-SF6", [1.805180, 1.812633, 1.827749, 1.796109], 1e-6),
+];
+
+/// The shipped dispersion formulas give every data-sheet index of
+/// [`DATA_SHEETS`] to within one unit of its last published digit (the
+/// vendors' formulas are fits to their measurements; their residuals stay
+/// below 5.1e-6 on these, 4e-7 on HIKARI's six-digit tables).
 #[test]
-fn n_bk7_matches_its_data_sheet() {
-    let g = Catalogs::shipped().find("SCHOTT:N-BK7").unwrap();
-    for (nm, want) in [(LINE_D_NM, 1.51680), (LINE_E_NM, 1.51872), (LINE_F_NM, 1.52238), (LINE_C_NM, 1.51432)] {
-        let n = g.index(nm).unwrap();
-        assert!((n - want).abs() <= 5e-6, "{nm} nm: {n:.6} vs {want}");
+fn catalogue_indices_match_the_vendors_data_sheets() {
+    let cats = Catalogs::shipped();
+    let mut vendors = std::collections::BTreeSet::new();
+    for (name, want, unit) in DATA_SHEETS {
+        let g = cats.find(name).unwrap();
+        vendors.insert(g.catalog.clone());
+        for (nm, want) in [LINE_D_NM, LINE_E_NM, LINE_F_NM, LINE_C_NM].into_iter().zip(want) {
+            let n = g.index(nm).unwrap();
+            assert!((n - want).abs() <= unit, "{name} at {nm} nm: {n:.7} vs the data sheet's {want}");
+        }
     }
+    assert!(vendors.len() >= 3, "{vendors:?}");
 }
 
 #[test]

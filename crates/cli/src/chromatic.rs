@@ -36,6 +36,11 @@ pub fn run(a: Args) -> CmdResult {
         Some(m) => m,
         None => (HALF_DIAGONAL_MM / FirstOrder::of(&p)?.efl.abs()).atan().to_degrees().min(60.0),
     };
+    if !(max_field.is_finite() && max_field > 0.0 && max_field < 90.0) {
+        return Err(
+            format!("--max-field-deg {max_field}: give a largest field angle above 0 and below 90 degrees").into()
+        );
+    }
     let c = chromatic(&p, a.field.field_deg, max_field, a.aim.aim())?;
     if let Some(out) = &a.plot.plot {
         plot::save(&plot::chromatic::chromatic_chart(&c, &a.lens.name(&p)), out)?;

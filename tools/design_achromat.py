@@ -34,34 +34,29 @@ phi1, phi2 = phi * v1 / (v1 - v2), -phi * v2 / (v1 - v2)
 r = 2 * (crown["nd"] - 1) / phi1
 r3 = 1.0 / (-phi2 / (flint["nd"] - 1) - 1.0 / r)
 t1, t2 = 5.0, 2.5
-def colour(r3):
-    d = lens(r, -r, r3, t1, t2, 100.0)
-    return info(d, F)["bfl"] - info(d, C)["bfl"]
-lo, hi = r3 * 1.3, r3 * 0.7
-assert colour(lo) * colour(hi) < 0, (colour(lo), colour(hi))
-for _ in range(80):
-    mid = 0.5 * (lo + hi)
-    if colour(lo) * colour(mid) <= 0:
-        hi = mid
-    else:
-        lo = mid
-r3 = 0.5 * (lo + hi)
+def colour(d, r3):
+    e = json.loads(json.dumps(d)); e["surfaces"][2]["radius"] = r3
+    return info(e, F)["bfl"] - info(e, C)["bfl"]
+
+def unite_f_and_c(d, lo, hi):
+    # the rear radius, by bisection, at which the F and C foci coincide
+    assert colour(d, lo) * colour(d, hi) < 0, (colour(d, lo), colour(d, hi))
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        if colour(d, lo) * colour(d, mid) <= 0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
+
+r3 = unite_f_and_c(lens(r, -r, r3, t1, t2, 100.0), r3 * 1.3, r3 * 0.7)
 s = 100.0 / info(lens(r, -r, r3, t1, t2, 100.0), D)["efl"]
 d = lens(round(r * s, 4), round(-r * s, 4), r3 * s, round(t1 * s, 4), round(t2 * s, 4), 100.0)
 # rear radius again after rounding the others, then the film at the d focus
-lo, hi = d["surfaces"][2]["radius"] * 1.01, d["surfaces"][2]["radius"] * 0.99
-def colour2(r3):
-    e = json.loads(json.dumps(d)); e["surfaces"][2]["radius"] = r3
-    return info(e, F)["bfl"] - info(e, C)["bfl"]
-for _ in range(80):
-    mid = 0.5 * (lo + hi)
-    if colour2(lo) * colour2(mid) <= 0:
-        hi = mid
-    else:
-        lo = mid
-d["surfaces"][2]["radius"] = round(0.5 * (lo + hi), 6)
+r3 = d["surfaces"][2]["radius"]
+d["surfaces"][2]["radius"] = round(unite_f_and_c(d, r3 * 1.01, r3 * 0.99), 6)
 d["surfaces"][2]["thickness"] = round(info(d, D)["bfl"], 6)
 out = os.path.join(ROOT, "lens-data/achromat-fc-100mm.json")
 with open(out, "w") as f:
     f.write(json.dumps(d, indent=2) + "\n")
-print(out, "F-C focus difference", colour2(d["surfaces"][2]["radius"]), "mm; efl", info(d, D)["efl"])
+print(out, "F-C focus difference", colour(d, d["surfaces"][2]["radius"]), "mm; efl", info(d, D)["efl"])

@@ -187,9 +187,10 @@ pub fn chromatic(p: &Prescription, field_deg: f64, max_field_deg: f64, aim: Aim)
         .glasses()
         .iter()
         .fold((FOCAL_SHIFT_NM[0], FOCAL_SHIFT_NM[1]), |(lo, hi), g| (lo.max(g.range_nm[0]), hi.min(g.range_nm[1])));
-    let steps = ((hi - lo) / FOCAL_SHIFT_STEP_NM).floor().max(0.0) as usize;
-    let mut focal_shift = Vec::with_capacity(steps + 1);
-    for k in 0..=steps {
+    // no point where the glasses share no part of 400-700 nm
+    let points = if hi >= lo { ((hi - lo) / FOCAL_SHIFT_STEP_NM).floor() as usize + 1 } else { 0 };
+    let mut focal_shift = Vec::with_capacity(points);
+    for k in 0..points {
         let nm = (lo + k as f64 * FOCAL_SHIFT_STEP_NM).min(hi);
         let (efl, d) = image_distance(nm)?;
         focal_shift.push(FocalShiftPoint { wavelength_nm: nm, efl, image_distance: d, focal_shift: d - primary_image });
@@ -251,32 +252,31 @@ pub fn chromatic(p: &Prescription, field_deg: f64, max_field_deg: f64, aim: Aim)
 /// The wavelengths' spots together, each wavelength weighted equally (its
 /// rays by their pupil weights).
 fn polychromatic(field_deg: f64, spots: &[(f64, super::spot::SpotDiagram)]) -> PolychromaticSpot {
+    // each ray's weight: its share of its own wavelength's pupil
+    let weighted = || {
+        spots.iter().flat_map(|(_, s)| {
+            let total: f64 = s.weights.iter().sum();
+            s.hits.iter().zip(&s.weights).map(move |(h, w)| (h, w / total))
+        })
+    };
     let mut all = [0.0; 3]; // Σw x, Σw y, Σw
-    let mut per = Vec::with_capacity(spots.len());
-    for (nm, s) in spots {
-        let total: f64 = s.weights.iter().sum();
-        for (h, w) in s.hits.iter().zip(&s.weights) {
-            let w = w / total;
-            all[0] += w * h[0];
-            all[1] += w * h[1];
-            all[2] += w;
-        }
-        per.push(WavelengthSpot {
+    for (h, w) in weighted() {
+        all[0] += w * h[0];
+        all[1] += w * h[1];
+        all[2] += w;
+    }
+    let per = spots
+        .iter()
+        .map(|(nm, s)| WavelengthSpot {
             wavelength_nm: *nm,
             centroid: s.centroid,
             rms_radius: s.rms_radius,
             rays: s.rays,
             hits: s.hits.iter().map(|h| [h[0], h[1]]).collect(),
-        });
-    }
+        })
+        .collect();
     let c = [all[0] / all[2], all[1] / all[2]];
-    let mut ms = 0.0;
-    for (_, s) in spots {
-        let total: f64 = s.weights.iter().sum();
-        for (h, w) in s.hits.iter().zip(&s.weights) {
-            ms += w / total * ((h[0] - c[0]).powi(2) + (h[1] - c[1]).powi(2));
-        }
-    }
+    let ms: f64 = weighted().map(|(h, w)| w * ((h[0] - c[0]).powi(2) + (h[1] - c[1]).powi(2))).sum();
     PolychromaticSpot {
         field_deg,
         image_z: spots.first().map_or(f64::NAN, |s| s.1.image_z),

@@ -6,11 +6,11 @@
 //! [`Tracer::trace`]: both run the same per-surface kernel, written once
 //! over the lane type of `lanes.rs`.
 //!
-//! Longer than most files (about 670 lines) on purpose: the batch's data
+//! Longer than most files (about 710 lines) on purpose: the batch's data
 //! (`RayBatch`), its chunk buffers and the two AVX2 drivers (structure of
-//! arrays, slice of rays) share the chunk's layout and its invariants
-//! (idle lanes, statuses, the frame of each buffer), which read best in one
-//! place.
+//! arrays, slice of rays; the first also with each ray's own indices, for
+//! `spectral.rs`) share the chunk's layout and its invariants (idle lanes,
+//! statuses, the frame of each buffer), which read best in one place.
 
 use super::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]
@@ -364,11 +364,19 @@ impl Tracer {
     /// [`Self::trace_soa`] ray by ray on the one-ray path: for CPUs without
     /// AVX2 and FMA.
     fn trace_soa_portable(&self, batch: &mut RayBatch) {
+        self.each_ray(batch, |_, l| self.walk_lane(l, |_, _, _| {}));
+    }
+
+    /// Carries every travelling ray `i` of `batch` one at a time by `walk`
+    /// (its state in, its state in the frame of the step `k` where it
+    /// stopped and the stop's kind out), and writes back its global state
+    /// and status: the one-ray path over a batch.
+    pub(super) fn each_ray(&self, batch: &mut RayBatch, walk: impl Fn(usize, Lane<f64>) -> (Lane<f64>, usize, u64)) {
         for i in 0..batch.len() {
             if batch.status[i] != 0 {
                 continue;
             }
-            let (l, k, kind) = self.walk_lane(batch.lane(i), |_, _, _| {});
+            let (l, k, kind) = walk(i, batch.lane(i));
             batch.set_lane(i, Lane { pz: l.pz + self.steps[k].vertex_z, ..l });
             batch.status[i] = if kind == PASSED { 0 } else { ((k as u64 + 1) << 2) | kind };
         }
@@ -511,8 +519,7 @@ impl Tracer {
                 c.status = [[0; 4]; VECTORS];
             } else {
                 for (i, r) in rays[..m].iter().enumerate() {
-                    let (o, d) = (r.origin, r.direction);
-                    c.put(i, Lane { px: o.x, py: o.y, pz: o.z, dx: d.x, dy: d.y, dz: d.z, opl: 0.0 }, 0);
+                    c.put(i, Lane::of_ray(r), 0);
                 }
             }
             self.trace_chunk::<false>(&mut c, m, &ChunkIndices::default());

@@ -11,7 +11,7 @@ use super::batch::RayBatch;
 #[cfg(target_arch = "x86_64")]
 use super::batch::VECTORS;
 use super::ray::{Outcome, Ray};
-use super::step::{lanes_at, step_dispatch, stopped, Indices, Lane, StepLanes, NO_GLASS, PASSED};
+use super::step::{lanes_at, Indices, Lane, StepLanes, NO_GLASS};
 use super::tracer::Tracer;
 use crate::error::OpticsError;
 use crate::glass::kernel::{Kernel, Lambda};
@@ -162,26 +162,8 @@ impl Tracer {
             unsafe { t.trace_soa_avx2::<true>(&mut batch.rays, &batch.wavelength_nm, &mut ix) };
             return Ok(());
         }
-        let rays = &mut batch.rays;
-        for (i, &nm) in batch.wavelength_nm.iter().enumerate() {
-            if rays.status[i] != 0 {
-                continue;
-            }
-            let l = Lane {
-                px: rays.x[i],
-                py: rays.y[i],
-                pz: rays.z[i],
-                dx: rays.dx[i],
-                dy: rays.dy[i],
-                dz: rays.dz[i],
-                opl: rays.opl[i],
-            };
-            let (l, k, kind) = t.walk_at(l, nm);
-            let z = l.pz + t.steps[k].vertex_z;
-            (rays.x[i], rays.y[i], rays.z[i]) = (l.px, l.py, z);
-            (rays.dx[i], rays.dy[i], rays.dz[i], rays.opl[i]) = (l.dx, l.dy, l.dz, l.opl);
-            rays.status[i] = if kind == PASSED { 0 } else { ((k as u64 + 1) << 2) | kind };
-        }
+        let nm = &batch.wavelength_nm;
+        t.each_ray(&mut batch.rays, |i, l| t.walk_at(l, nm[i]));
         Ok(())
     }
 
@@ -190,16 +172,7 @@ impl Tracer {
     pub fn trace_at(&self, ray: Ray, wavelength_nm: f64) -> Result<Outcome, OpticsError> {
         self.check_wavelengths(&[wavelength_nm])?;
         let t = self.spectral();
-        let l = Lane {
-            px: ray.origin.x,
-            py: ray.origin.y,
-            pz: ray.origin.z,
-            dx: ray.direction.x,
-            dy: ray.direction.y,
-            dz: ray.direction.z,
-            opl: 0.0,
-        };
-        let (l, k, kind) = t.walk_at(l, wavelength_nm);
+        let (l, k, kind) = t.walk_at(Lane::of_ray(&ray), wavelength_nm);
         Ok(t.outcome(l, k, kind))
     }
 
@@ -261,18 +234,9 @@ impl Tracer {
 
     /// Carries one ray (global frame) at `nm` step by step until it stops,
     /// as `walk_lane` does at the prescription's wavelength.
-    fn walk_at(&self, mut l: Lane<f64>, nm: f64) -> (Lane<f64>, usize, u64) {
+    fn walk_at(&self, l: Lane<f64>, nm: f64) -> (Lane<f64>, usize, u64) {
         let ix = self.indices_at(nm);
-        for (k, s) in self.steps.iter().enumerate() {
-            let sl = lanes_at(StepLanes::of(s), s, &ix);
-            let out = step_dispatch(s, &sl, l);
-            let kind = out.verdict.kind();
-            if kind != PASSED {
-                return (stopped(s, l, out.next, kind), k, kind);
-            }
-            l = out.next;
-        }
-        (l, self.steps.len() - 1, PASSED)
+        self.walk_lane_by(l, |s| lanes_at(StepLanes::of(s), s, &ix), |_, _, _| {})
     }
 
     /// Index buffers for one chunk, one per glass.

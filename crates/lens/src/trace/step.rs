@@ -8,9 +8,10 @@
 //! one-ray path, four rays in an AVX2 register for the batch. Both paths
 //! call these functions, so they agree bit for bit.
 //!
-//! This file is longer than most (about 600 lines) on purpose: the whole
-//! step - intersection, refraction, verdicts - reads top to bottom in one
-//! place, the order a ray meets them.
+//! This file is longer than most (about 670 lines) on purpose: the whole
+//! step - intersection, refraction, verdicts, and the step's numbers for a
+//! ray of its own wavelength - reads top to bottom in one place, the order a
+//! ray meets them.
 
 use crate::model::Surface;
 use crate::simd::lanes::{Mask, Real};
@@ -339,6 +340,15 @@ pub(crate) struct Lane<L> {
     pub dy: L,
     pub dz: L,
     pub opl: L,
+}
+
+impl Lane<f64> {
+    /// A ray as a lane, path length 0.
+    #[inline(always)]
+    pub(crate) fn of_ray(r: &super::ray::Ray) -> Self {
+        let (o, d) = (r.origin, r.direction);
+        Lane { px: o.x, py: o.y, pz: o.z, dx: d.x, dy: d.y, dz: d.z, opl: 0.0 }
+    }
 }
 
 /// How a step went, per lane.

@@ -195,16 +195,7 @@ impl Tracer {
     /// step's result.
     #[inline(always)]
     fn walk(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
-        let start = Lane {
-            px: ray.origin.x,
-            py: ray.origin.y,
-            pz: ray.origin.z,
-            dx: ray.direction.x,
-            dy: ray.direction.y,
-            dz: ray.direction.z,
-            opl: 0.0,
-        };
-        let (l, k, kind) = self.walk_lane(start, visit);
+        let (l, k, kind) = self.walk_lane(Lane::of_ray(&ray), visit);
         self.outcome(l, k, kind)
     }
 
@@ -212,13 +203,21 @@ impl Tracer {
     /// returns its state in the frame of the step `k` where it stopped (the
     /// last when it passed every one) and the kind of the stop.
     #[inline(always)]
-    pub(crate) fn walk_lane(
+    pub(crate) fn walk_lane(&self, l: Lane<f64>, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> (Lane<f64>, usize, u64) {
+        self.walk_lane_by(l, StepLanes::of, visit)
+    }
+
+    /// [`Self::walk_lane`] with each step's numbers from `lanes` (the
+    /// step's own, or those of the ray's wavelength).
+    #[inline(always)]
+    pub(crate) fn walk_lane_by(
         &self,
         mut l: Lane<f64>,
+        lanes: impl Fn(&Step) -> StepLanes<f64>,
         mut visit: impl FnMut(&Step, &Lane<f64>, u64),
     ) -> (Lane<f64>, usize, u64) {
         for (k, s) in self.steps.iter().enumerate() {
-            let out = step_dispatch(s, &StepLanes::of(s), l);
+            let out = step_dispatch(s, &lanes(s), l);
             let kind = out.verdict.kind();
             if kind != PASSED {
                 l = stopped(s, l, out.next, kind);

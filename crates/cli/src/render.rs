@@ -1,6 +1,8 @@
 //! `lens render`: a scene through its camera, to PNG and/or EXR.
 
 use crate::CmdResult;
+use ::render::scene::format::SpectralSpec;
+use ::render::scene::ColourMode;
 use ::render::{render, Options, Scene};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -22,6 +24,14 @@ pub struct Args {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Colour transport: spectral (wavelengths through the glasses), RGB,
+    /// or auto (spectral when the lens, a material or a light depends on
+    /// wavelength). Default: the scene's (auto).
+    #[arg(long, value_enum)]
+    spectral: Option<SpectralFlag>,
+    /// Render one wavelength only, nm: a grey image of the radiance there.
+    #[arg(long, value_name = "NM")]
+    wavelength_nm: Option<f64>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -33,8 +43,25 @@ pub struct Args {
     report: Option<PathBuf>,
 }
 
+/// `--spectral` values.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum SpectralFlag {
+    Auto,
+    On,
+    Off,
+}
+
 pub fn run(a: Args) -> CmdResult {
-    let scene = Scene::load(&a.scene)?;
+    let mut scene = Scene::load(&a.scene)?;
+    if a.spectral.is_some() || a.wavelength_nm.is_some() {
+        let spectral = match a.spectral {
+            Some(SpectralFlag::On) => SpectralSpec::On,
+            Some(SpectralFlag::Off) => SpectralSpec::Off,
+            Some(SpectralFlag::Auto) => SpectralSpec::Auto,
+            None => scene.film.spectral,
+        };
+        scene.set_colour(spectral, a.wavelength_nm.or(scene.film.wavelength_nm))?;
+    }
     let spp = a.spp.unwrap_or(scene.film.spp);
     if spp == 0 {
         return Err("--spp must be at least 1".into());
@@ -66,8 +93,13 @@ pub fn run(a: Args) -> CmdResult {
     if let Some(exr) = &a.exr {
         image.save(exr, scene.film.exposure)?;
     }
+    let colour = match &scene.colour {
+        ColourMode::Rgb => "RGB".to_string(),
+        ColourMode::Spectral(r) => format!("spectral {:.0}-{:.0} nm", r.nm()[0], r.nm()[1]),
+        ColourMode::Monochromatic(nm) => format!("at {nm} nm"),
+    };
     eprintln!(
-        "{} x {} at {spp} spp in {secs:.2} s; camera rays through the lens: {:.1}%",
+        "{} x {} at {spp} spp ({colour}) in {secs:.2} s; camera rays through the lens: {:.1}%",
         image.width,
         image.height,
         100.0 * stats.pass_rate()

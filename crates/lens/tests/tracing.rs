@@ -228,3 +228,28 @@ fn hand_set_statuses_are_left_alone_and_bad_ones_are_errors() {
     assert!(matches!(t.outcome_of(&b, 0), Ok(Outcome::Reached { .. })));
     assert!(matches!(t.outcome_of(&b, 4), Ok(Outcome::Blocked { surface: 0, .. })));
 }
+
+/// A forward trace split at any surface (object to k, then k on to the
+/// film) lands where the whole forward trace does, and stops at the same
+/// surface.
+#[test]
+fn forward_range_pieces_join_to_the_whole_trace() {
+    for (name, p) in shipped_lenses() {
+        let w = lens::trace::bench::Workload::new(&p, 500).unwrap();
+        let n = p.surfaces().len();
+        let mut whole = w.rays.clone();
+        Tracer::forward(&p).trace_soa(&mut whole);
+        for k in [0, 1, p.stop_index(), n - 1, n] {
+            let mut split = w.rays.clone();
+            Tracer::forward_range(&p, 0..k).trace_soa(&mut split);
+            Tracer::forward_range(&p, k..n).trace_soa(&mut split);
+            for i in 0..whole.len() {
+                assert_eq!(whole.status[i] == 0, split.status[i] == 0, "{name} split at {k}, ray {i}");
+                if whole.status[i] == 0 {
+                    let d = (whole.x[i] - split.x[i]).abs().max((whole.y[i] - split.y[i]).abs());
+                    assert!(d < 1e-9 && (whole.z[i] - split.z[i]).abs() < 1e-9, "{name} split at {k}, ray {i}: {d}");
+                }
+            }
+        }
+    }
+}

@@ -1,11 +1,13 @@
 //! A unidirectional path tracer with direct light sampling (next event
-//! estimation) on diffuse surfaces and Russian roulette.
+//! estimation) on diffuse surfaces and Russian roulette, written once over
+//! [`Transport`]: RGB channels or a path's wavelengths.
 
 use crate::geometry::{Ray, EPS};
 use crate::light::sample_shape;
 use crate::material::{cosine_hemisphere, Material, Scatter};
 use crate::rng::Sampler;
 use crate::scene::Scene;
+use crate::transport::{Channels, Transport};
 use glam::DVec3;
 
 /// Longest path, in bounces.
@@ -13,17 +15,18 @@ pub const MAX_DEPTH: usize = 32;
 /// Bounces before Russian roulette may end a path.
 pub const RR_DEPTH: usize = 3;
 
-/// Radiance arriving along `ray` (linear RGB).
-pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
-    let mut l = DVec3::ZERO;
-    let mut beta = DVec3::ONE;
+/// Radiance arriving along `ray`, in the channels of `t` (linear sRGB, or
+/// a value per wavelength).
+pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sampler) -> T::Value {
+    let mut l = T::Value::ZERO;
+    let mut beta = T::Value::ONE;
     // emission seen directly or through specular bounces is counted on hit;
     // after a diffuse bounce it was already counted by light sampling
     let mut count_emission = true;
     for depth in 0..MAX_DEPTH {
         let scale = 1.0 + ray.origin.abs().max_element();
         let Some((prim, h)) = scene.intersect(&ray, EPS * scale, f64::INFINITY) else {
-            l += beta * scene.background.radiance(ray.dir);
+            l += beta * scene.background.radiance(t, ray.dir);
             break;
         };
         let mat = &scene.materials[scene.material_of[prim]];
@@ -31,7 +34,7 @@ pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
             // emitters that light sampling cannot pick (infinite planes) are
             // counted whenever a path finds them
             if count_emission || !scene.light_sampled(prim) {
-                l += beta * mat.emitted(-ray.dir.dot(h.n));
+                l += beta * mat.emitted(t, -ray.dir.dot(h.n));
             }
             break;
         }
@@ -39,10 +42,10 @@ pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
         let ns = if ray.dir.dot(h.n) > 0.0 { -h.n } else { h.n };
         let p_scale = 1.0 + h.p.abs().max_element();
         let above = h.p + ns * (EPS * p_scale * 10.0);
-        match mat.scatter(ray.dir, h.n, h.uv, s) {
+        match mat.scatter(t, ray.dir, h.n, h.uv, s) {
             Scatter::None => break,
             Scatter::Diffuse(albedo) => {
-                l += beta * albedo * direct(scene, above, ns, s) / std::f64::consts::PI;
+                l += beta * albedo * direct(scene, t, above, ns, s) * (1.0 / std::f64::consts::PI);
                 let d = cosine_hemisphere(ns, s.next2());
                 // cosine sampling: cos / pdf = pi cancels the 1/pi of Lambert
                 beta *= albedo;
@@ -57,11 +60,11 @@ pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
             }
         }
         if depth >= RR_DEPTH {
-            let q = beta.max_element().min(0.95);
+            let q = beta.max_channel().min(0.95);
             if q <= 0.0 || s.uniform() >= q {
                 break;
             }
-            beta /= q;
+            beta *= 1.0 / q;
         }
     }
     l
@@ -70,14 +73,15 @@ pub fn radiance(scene: &Scene, mut ray: Ray, s: &mut Sampler) -> DVec3 {
 /// Direct light at a diffuse point `p` with normal `n` (irradiance times pi:
 /// the caller multiplies by albedo / pi): point lights, and one emissive
 /// shape chosen uniformly, sampled by area.
-fn direct(scene: &Scene, p: DVec3, n: DVec3, s: &mut Sampler) -> DVec3 {
-    let mut e = DVec3::ZERO;
-    for &(lp, intensity) in &scene.point_lights {
+fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sampler) -> T::Value {
+    let mut e = T::Value::ZERO;
+    for (lp, intensity) in &scene.point_lights {
+        let lp = *lp;
         let d = lp - p;
         let dist2 = d.length_squared();
         let cos = n.dot(d) / dist2.sqrt();
         if cos > 0.0 && scene.visible(p, lp) {
-            e += intensity * cos / dist2;
+            e += t.radiance(intensity) * (cos / dist2);
         }
     }
     if !scene.emitters.is_empty() {
@@ -90,9 +94,9 @@ fn direct(scene: &Scene, p: DVec3, n: DVec3, s: &mut Sampler) -> DVec3 {
             let cos = n.dot(dir);
             let cos_l = -nq.dot(dir);
             if cos > 0.0 && cos_l > 0.0 && scene.visible(p, q) {
-                let le = scene.materials[scene.material_of[prim]].emitted(cos_l);
+                let le = scene.materials[scene.material_of[prim]].emitted(t, cos_l);
                 let pdf = pdf_area / scene.emitters.len() as f64;
-                e += le * cos * cos_l / (dist2 * pdf);
+                e += le * (cos * cos_l / (dist2 * pdf));
             }
         }
     }

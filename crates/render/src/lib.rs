@@ -22,6 +22,8 @@ pub mod renderer;
 pub mod report;
 pub mod rng;
 pub mod scene;
+pub mod spectrum;
+pub mod transport;
 
 pub use image::Image;
 pub use renderer::{render, Options, Stats};

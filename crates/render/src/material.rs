@@ -1,80 +1,94 @@
-//! Materials: diffuse (colour or checker texture), emissive, mirror, glass.
+//! Materials: diffuse (colour or checker texture), emissive, mirror, and a
+//! smooth dielectric of constant index or of a catalogue glass. Written
+//! once over [`Transport`]: RGB or a path's wavelengths.
 
 use crate::rng::Sampler;
+use crate::spectrum::{Colour, Radiance};
+use crate::transport::{Channels, Medium, Transport};
 use glam::DVec3;
 
-/// A surface's appearance. Colours are linear RGB.
+/// A surface's appearance. Colours are linear sRGB.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Material {
     /// Lambertian reflector.
     Diffuse {
         /// Albedo.
-        albedo: DVec3,
+        albedo: Colour,
     },
     /// Lambertian with a checker texture of the given square size (in the
     /// shape's texture units: metres on planes, 0..1 on quads and spheres).
     Checker {
         /// First colour.
-        a: DVec3,
+        a: Colour,
         /// Second colour.
-        b: DVec3,
+        b: Colour,
         /// Square size.
         scale: f64,
     },
     /// Emits `radiance` from its front side; does not reflect.
     Emissive {
-        /// Radiance, W / (m^2 sr) per channel.
-        radiance: DVec3,
+        /// Radiance, W / (m^2 sr) per channel, or a spectrum.
+        radiance: Radiance,
     },
     /// Perfect mirror.
     Mirror {
         /// Reflectance.
-        tint: DVec3,
+        tint: Colour,
     },
-    /// Smooth dielectric.
-    Glass {
-        /// Refractive index.
-        ior: f64,
+    /// Smooth dielectric: a constant index, or a catalogue glass whose
+    /// index follows the path's wavelength.
+    Dielectric {
+        /// The medium inside.
+        medium: Medium,
     },
 }
 
-/// What a surface does to a path.
-pub enum Scatter {
+/// What a surface does to a path, with the path's channels `V`.
+pub enum Scatter<V> {
     /// Diffuse: the albedo; the integrator samples the hemisphere and lights.
-    Diffuse(DVec3),
+    Diffuse(V),
     /// A specular direction with its throughput weight.
-    Specular(DVec3, DVec3),
+    Specular(DVec3, V),
     /// Absorbed (emitters).
     None,
 }
 
 impl Material {
     /// Emitted radiance toward a viewer on the side of `n` (front only).
-    pub fn emitted(&self, cos_out: f64) -> DVec3 {
+    pub fn emitted<T: Transport>(&self, t: &T, cos_out: f64) -> T::Value {
         match self {
-            Material::Emissive { radiance } if cos_out > 0.0 => *radiance,
-            _ => DVec3::ZERO,
+            Material::Emissive { radiance } if cos_out > 0.0 => t.radiance(radiance),
+            _ => T::Value::ZERO,
         }
     }
 
     /// Scattering at a hit with unit normal `n` (facing out of the shape),
     /// incoming direction `d` (toward the surface), texture coordinates `uv`.
-    pub fn scatter(&self, d: DVec3, n: DVec3, uv: (f64, f64), s: &mut Sampler) -> Scatter {
-        match *self {
-            Material::Diffuse { albedo } => Scatter::Diffuse(albedo),
+    /// A dispersive dielectric keeps only the path's hero wavelength.
+    pub fn scatter<T: Transport>(
+        &self,
+        t: &mut T,
+        d: DVec3,
+        n: DVec3,
+        uv: (f64, f64),
+        s: &mut Sampler,
+    ) -> Scatter<T::Value> {
+        match self {
+            Material::Diffuse { albedo } => Scatter::Diffuse(t.reflectance(albedo)),
             Material::Checker { a, b, scale } => {
                 let k = ((uv.0 / scale).floor() + (uv.1 / scale).floor()) as i64;
-                Scatter::Diffuse(if k.rem_euclid(2) == 0 { a } else { b })
+                Scatter::Diffuse(t.reflectance(if k.rem_euclid(2) == 0 { a } else { b }))
             }
             Material::Emissive { .. } => Scatter::None,
-            Material::Mirror { tint } => Scatter::Specular(reflect(d, n), tint),
-            Material::Glass { ior } => {
+            Material::Mirror { tint } => Scatter::Specular(reflect(d, n), t.reflectance(tint)),
+            Material::Dielectric { medium } => {
+                let ior = t.ior(medium);
                 let entering = d.dot(n) < 0.0;
                 let (nn, eta) = if entering { (n, 1.0 / ior) } else { (-n, ior) };
                 let cos_i = -d.dot(nn);
                 let k = 1.0 - eta * eta * (1.0 - cos_i * cos_i);
                 if k < 0.0 {
-                    return Scatter::Specular(reflect(d, nn), DVec3::ONE);
+                    return Scatter::Specular(reflect(d, nn), T::Value::ONE);
                 }
                 let cos_t = k.sqrt();
                 // Fresnel (dielectric, unpolarised)
@@ -84,9 +98,9 @@ impl Material {
                 let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
                 let fr = 0.5 * (rs * rs + rp * rp);
                 if s.uniform() < fr {
-                    Scatter::Specular(reflect(d, nn), DVec3::ONE)
+                    Scatter::Specular(reflect(d, nn), T::Value::ONE)
                 } else {
-                    Scatter::Specular((eta * d + (eta * cos_i - cos_t) * nn).normalize(), DVec3::ONE)
+                    Scatter::Specular((eta * d + (eta * cos_i - cos_t) * nn).normalize(), T::Value::ONE)
                 }
             }
         }

@@ -3,12 +3,17 @@
 //! pixel and aperture samples decorrelated per pixel, deterministic for a
 //! given seed.
 
-use crate::camera::CameraSample;
+#[cfg(doc)]
+use crate::camera::Camera;
+use crate::camera::{CameraSample, SpectralLane};
 use crate::image::Image;
 use crate::integrator::radiance;
 use crate::rng::{stratified, Sampler};
 use crate::scene::format::FilterSpec;
-use crate::scene::Scene;
+use crate::scene::{ColourMode, Scene};
+use crate::spectrum::sampled::N;
+use crate::spectrum::{cie, SampledSpectrum, SampledWavelengths};
+use crate::transport::{Rgb, Spectral};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -53,6 +58,15 @@ const GROUP_SAMPLES: usize = 8192;
 /// visited in a random order drawn per pixel, so the lens position of a
 /// sample is uniform and independent of its position in the pixel and the
 /// estimator is unbiased at every sample count (docs/rendering.md).
+///
+/// A spectral scene ([`ColourMode::Spectral`]) gives each sample four
+/// wavelengths (hero-wavelength sampling), the heroes stratified over the
+/// pixel's samples in a random order of the pixel's own; the pixel sums
+/// CIE XYZ and is converted to linear sRGB at the end. Through a
+/// dispersive camera the four wavelengths of a sample leave the lens along
+/// one scene ray from four film points, combined by multiple importance
+/// sampling ([`Camera::rays_spectral`]). An RGB scene draws
+/// exactly the random numbers it drew before spectra existed.
 pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) -> (Image, Stats) {
     let (w, h) = (scene.film.width as usize, scene.film.height as usize);
     let spp = opt.spp.max(1) as usize;
@@ -68,11 +82,15 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
             let mut samples = Vec::with_capacity(group.min(w) * spp);
             let mut rays = Vec::with_capacity(samples.capacity());
             let mut order: Vec<usize> = Vec::with_capacity(strata * strata);
+            let mut colours: Vec<SampledWavelengths> = Vec::with_capacity(samples.capacity());
+            let mut lambda_order: Vec<usize> = Vec::new();
+            let mut lanes = Vec::new();
             for x0 in (0..w).step_by(group) {
                 let xs = x0..(x0 + group).min(w);
                 let mut samplers: Vec<Sampler> =
                     xs.clone().map(|x| Sampler::new(opt.seed, (y * w + x) as u64)).collect();
                 samples.clear();
+                colours.clear();
                 for (x, s) in xs.clone().zip(&mut samplers) {
                     // the aperture strata in a random order of this pixel's own
                     order.clear();
@@ -90,8 +108,34 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                             None => s.next2(),
                         };
                         let film = ((x as f64 + ox) / w as f64, (y as f64 + oy) / h as f64);
-                        samples.push(CameraSample { film, aperture: a });
+                        samples.push(CameraSample::new(film, a));
                     }
+                    let start = colours.len();
+                    push_wavelengths(scene, spp, s, &mut lambda_order, &mut colours);
+                    let first = samples.len() - spp;
+                    for (sample, wl) in samples[first..].iter_mut().zip(&colours[start..]) {
+                        sample.wavelength_nm = Some(wl.hero());
+                    }
+                }
+                if let ColourMode::Spectral(_) = scene.colour {
+                    scene.camera.rays_spectral(&samples, &colours, &mut lanes);
+                    for (i, s) in samplers.iter_mut().enumerate() {
+                        let x = x0 + i;
+                        let mut sum = DVec3::ZERO;
+                        for k in i * spp..(i + 1) * spp {
+                            let Some((ray, lane)) = &lanes[k] else { continue };
+                            if lane[0].transmission.is_nan() || lane[0].transmission <= 0.0 {
+                                continue;
+                            }
+                            row_passed += 1;
+                            let mut t = Spectral { wavelengths: colours[k] };
+                            let l = radiance(scene, *ray, &mut t, s);
+                            let pixel = |film: (f64, f64)| pixel_density(scene.film.filter, film, (x, y), (w, h));
+                            sum += combine(&t.wavelengths, l, lane, pixel);
+                        }
+                        row.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));
+                    }
+                    continue;
                 }
                 scene.camera.rays(&samples, &mut rays);
                 for (i, s) in samplers.iter_mut().enumerate() {
@@ -99,7 +143,14 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                     for (ray, weight) in rays[i * spp..(i + 1) * spp].iter().flatten() {
                         if *weight > 0.0 {
                             row_passed += 1;
-                            sum += *weight * radiance(scene, *ray, s);
+                            sum += *weight
+                                * match scene.colour {
+                                    ColourMode::Monochromatic(nm) => {
+                                        let mut t = Spectral { wavelengths: SampledWavelengths::single(nm) };
+                                        DVec3::splat(radiance(scene, *ray, &mut t, s).0[0])
+                                    }
+                                    _ => radiance(scene, *ray, &mut Rgb, s),
+                                };
                         }
                     }
                     row.push(sum / spp as f64);
@@ -113,6 +164,82 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
     let camera_rays = w * h * spp;
     let stats = Stats { camera_rays, camera_rays_passed: passed.load(Ordering::Relaxed) };
     (Image { width: w, height: h, pixels: rows.concat() }, stats)
+}
+
+/// The XYZ estimate (times ∫ȳ) of one spectral camera sample: its
+/// radiance `l` at each of its wavelengths, combined by the balance
+/// heuristic over the densities with which the camera would have drawn the
+/// same scene ray with each wavelength as the hero (each lane's camera
+/// density times the pixel filter's density at that lane's film point;
+/// Wilkie et al. 2014). Where the scene has ended the companions (a
+/// dispersive material), the hero alone.
+fn combine(
+    wl: &SampledWavelengths,
+    l: SampledSpectrum,
+    lanes: &[SpectralLane; N],
+    pixel: impl Fn((f64, f64)) -> f64,
+) -> DVec3 {
+    let pix: [f64; N] = std::array::from_fn(|j| if lanes[j].density > 0.0 { pixel(lanes[j].film) } else { 0.0 });
+    if wl.secondary_terminated() {
+        let (lane, p) = (&lanes[0], pix[0] * lanes[0].density);
+        return if p > 0.0 {
+            cie::cmf(wl.nm[0]) * (l.0[0] * lane.transmission * pix[0] / (wl.pdf[0] * p))
+        } else {
+            DVec3::ZERO
+        };
+    }
+    let total: f64 = (0..N).map(|m| pix[m] * lanes[m].density).sum();
+    if total.is_nan() || total <= 0.0 {
+        return DVec3::ZERO;
+    }
+    let mut xyz = DVec3::ZERO;
+    for j in 0..N {
+        let f = l.0[j] * lanes[j].transmission * pix[j];
+        if f != 0.0 {
+            xyz += cie::cmf(wl.nm[j]) * (f / wl.pdf[j]);
+        }
+    }
+    xyz / total
+}
+
+/// The density of the pixel filter for film point `film` (u, v in [0, 1])
+/// in pixel `(x, y)` of a `(w, h)` image, per pixel area: the box filter's
+/// 1 inside the pixel, the tent's product of triangles over two pixels.
+fn pixel_density(filter: FilterSpec, film: (f64, f64), (x, y): (usize, usize), (w, h): (usize, usize)) -> f64 {
+    let ox = film.0 * w as f64 - x as f64;
+    let oy = film.1 * h as f64 - y as f64;
+    match filter {
+        FilterSpec::Box => {
+            if (0.0..1.0).contains(&ox) && (0.0..1.0).contains(&oy) {
+                1.0
+            } else {
+                0.0
+            }
+        }
+        FilterSpec::Tent => (1.0 - (ox - 0.5).abs()).max(0.0) * (1.0 - (oy - 0.5).abs()).max(0.0),
+    }
+}
+
+/// Appends the wavelengths of a pixel's `spp` samples to `out` (nothing
+/// for an RGB render): heroes stratified over the sampling distribution's
+/// CDF, the strata in a random order drawn from the pixel's stream.
+fn push_wavelengths(
+    scene: &Scene,
+    spp: usize,
+    s: &mut Sampler,
+    order: &mut Vec<usize>,
+    out: &mut Vec<SampledWavelengths>,
+) {
+    match &scene.colour {
+        ColourMode::Rgb => {}
+        ColourMode::Monochromatic(nm) => out.extend(std::iter::repeat_n(SampledWavelengths::single(*nm), spp)),
+        ColourMode::Spectral(range) => {
+            order.clear();
+            order.extend(0..spp);
+            shuffle(order, s);
+            out.extend(order.iter().map(|&k| range.sample_four((k as f64 + s.uniform()) / spp as f64)));
+        }
+    }
 }
 
 /// Shuffles `v` uniformly (Fisher-Yates) with the pixel's stream.

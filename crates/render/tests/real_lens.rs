@@ -17,10 +17,13 @@ fn scene(json: &str) -> Scene {
     Scene::build(file, &data(), "<test>").unwrap()
 }
 
+/// A small white lamp seen through `camera`, rendered in RGB: these tests
+/// check the lens's geometry at its primary wavelength (the spectral tests
+/// are in spectral.rs).
 fn lamp_scene(camera: &str, lamp: DVec3, radius: f64, size: usize) -> Scene {
     scene(&format!(
         r#"{{"camera": {camera},
-            "film": {{"width": {size}, "height": {size}, "spp": 64}},
+            "film": {{"width": {size}, "height": {size}, "spp": 64, "spectral": "off"}},
             "materials": {{"l": {{"type": "emissive", "radiance": [1000, 1000, 1000]}}}},
             "shapes": [{{"type": "sphere", "center": [{}, {}, {}], "radius": {radius}, "material": "l"}}]}}"#,
         lamp.x, lamp.y, lamp.z
@@ -169,9 +172,8 @@ fn pupil_bounds_lose_no_light() {
             let n = 200_000;
             let g = 0.618_033_988_749_894_9;
             let samples: Vec<render::camera::CameraSample> = (0..n)
-                .map(|k| render::camera::CameraSample {
-                    film: (u, v),
-                    aperture: ((k as f64 + 0.5) / n as f64, (k as f64 * g).fract()),
+                .map(|k| {
+                    render::camera::CameraSample::new((u, v), ((k as f64 + 0.5) / n as f64, (k as f64 * g).fract()))
                 })
                 .collect();
             let mut out = Vec::new();

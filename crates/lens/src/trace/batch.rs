@@ -352,6 +352,10 @@ impl Tracer {
     /// and path lengths add to the `opl` a ray starts with. Allocates one
     /// chunk buffer (about 13 KiB) per call, nothing per ray.
     pub fn trace_soa(&self, batch: &mut RayBatch) {
+        if self.steps.is_empty() {
+            // an empty range: nothing to cross
+            return;
+        }
         #[cfg(target_arch = "x86_64")]
         if simd_fma() {
             // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).

@@ -150,7 +150,7 @@ impl Tracer {
             });
         }
         self.check_wavelengths(&batch.wavelength_nm)?;
-        if self.glasses.is_empty() {
+        if self.glasses.is_empty() || self.steps.is_empty() {
             self.trace_soa(&mut batch.rays);
             return Ok(());
         }

@@ -46,23 +46,38 @@ impl Tracer {
     /// Object to a film `film_distance` mm behind the last vertex (any finite
     /// value; the film is a plane without clipping).
     pub fn forward_to_film(p: &Prescription, film_distance: f64) -> Self {
+        Self::forward_steps(p, 0..p.surfaces().len(), film_distance)
+    }
+
+    /// From object space through surfaces `range.start` to `range.end - 1`
+    /// only (0-based; clamped to the prescription), and on to the film at
+    /// the prescription's film distance when the range ends at the last
+    /// surface. Rays start and end in the global frame, so a trace can stop
+    /// at a surface and go on from there: `forward_range(p, 0..k)` then
+    /// `forward_range(p, k..n)` is the whole forward trace (equal to
+    /// [`Self::forward`] to within rounding of the frame change at surface
+    /// k).
+    pub fn forward_range(p: &Prescription, range: std::ops::Range<usize>) -> Self {
+        Self::forward_steps(p, range, p.film_distance())
+    }
+
+    /// The steps of [`Self::forward_range`] with the film `film_distance`
+    /// mm behind the last vertex.
+    fn forward_steps(p: &Prescription, range: std::ops::Range<usize>, film_distance: f64) -> Self {
         let z = p.vertex_z();
         let s = p.surfaces();
-        let mut steps: Vec<Step> = s
-            .iter()
-            .enumerate()
-            .map(|(i, surf)| {
+        let hi = range.end.min(s.len());
+        let lo = range.start.min(hi);
+        let mut steps: Vec<Step> = (lo..hi)
+            .map(|i| {
                 let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
-                surface_step(
-                    surf,
-                    i,
-                    before,
-                    (surf.ior, surf.glass),
-                    if i == 0 { 0.0 } else { s[i - 1].thickness },
-                    z[i],
-                )
+                let shift = if i == lo { z[i] } else { s[i - 1].thickness };
+                surface_step(&s[i], i, before, (s[i].ior, s[i].glass), shift, z[i])
             })
             .collect();
+        if hi < s.len() {
+            return Tracer::with_glasses(steps, p);
+        }
         let last = s.len() - 1;
         steps.push(Step {
             c: 0.0,
@@ -72,7 +87,7 @@ impl Tracer {
             n_after: s[last].ior,
             glass_before: s[last].glass.map_or(NO_GLASS, |g| g as u32),
             glass_after: s[last].glass.map_or(NO_GLASS, |g| g as u32),
-            shift: film_distance,
+            shift: if steps.is_empty() { z[last] + film_distance } else { film_distance },
             vertex_z: z[last] + film_distance,
             surface: s.len(),
             refract: false,

@@ -7,6 +7,8 @@ pub mod pupil;
 pub mod real_lens;
 
 use crate::geometry::Ray;
+use crate::spectrum::sampled::N;
+use crate::spectrum::SampledWavelengths;
 use aperture::Aperture;
 use glam::DVec3;
 
@@ -36,14 +38,72 @@ pub enum CameraError {
     NoLight,
 }
 
-/// One camera sample: a film position (u, v in [0, 1], v down) and two
-/// aperture uniforms in [0, 1).
+/// One camera sample: a film position (u, v in [0, 1], v down), two
+/// aperture uniforms in [0, 1), and the wavelength its path carries through
+/// a dispersive lens (`None`: RGB, the lens at its primary wavelength).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CameraSample {
     /// Film position (u, v).
     pub film: (f64, f64),
     /// Aperture uniforms.
     pub aperture: (f64, f64),
+    /// Wavelength, nm.
+    pub wavelength_nm: Option<f64>,
+}
+
+impl CameraSample {
+    /// An RGB sample.
+    pub fn new(film: (f64, f64), aperture: (f64, f64)) -> Self {
+        CameraSample { film, aperture, wavelength_nm: None }
+    }
+}
+
+/// One wavelength of a spectral camera sample: where the film-side ray
+/// that leaves the lens as the sample's scene ray at this wavelength
+/// starts, the stop's transmission along it, and the density (relative to
+/// the measure of scene rays, normalised like the weights) with which the
+/// camera would have drawn that scene ray had this wavelength been the
+/// hero. The render combines the wavelengths by the balance heuristic over
+/// these densities (docs/rendering.md), so a dispersive lens keeps all four
+/// wavelengths of a path.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpectralLane {
+    /// Film position (u, v) at this wavelength.
+    pub film: (f64, f64),
+    /// The stop's transmission (1 for a round stop; 0: blocked).
+    pub transmission: f64,
+    /// 1 / the camera weight: the density of drawing this scene ray
+    /// (0: blocked at this wavelength).
+    pub density: f64,
+}
+
+impl SpectralLane {
+    /// A wavelength the lens blocks.
+    pub const BLOCKED: SpectralLane = SpectralLane { film: (f64::NAN, f64::NAN), transmission: 0.0, density: 0.0 };
+}
+
+/// A thin lens's glass: its focal length at each wavelength from the
+/// glass's dispersion (thin-lens lensmaker: f(λ) (n(λ) - 1) is constant),
+/// with the film where the d line focuses.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ThinGlass {
+    /// The glass.
+    pub glass: std::sync::Arc<lens::glass::Glass>,
+    /// Its index at the d line.
+    pub nd: f64,
+    /// Focal length at the d line, m.
+    pub focal_length: f64,
+    /// Lens to film, m.
+    pub film_distance: f64,
+}
+
+impl ThinGlass {
+    /// 1 / (distance to the plane in focus) at `nm`, 1/m (0: infinity;
+    /// negative: no real plane is sharp).
+    pub fn inverse_focus(&self, nm: f64) -> f64 {
+        let n = self.glass.index(nm).unwrap_or(self.nd);
+        (n - 1.0) / ((self.nd - 1.0) * self.focal_length) - 1.0 / self.film_distance
+    }
 }
 
 /// An orthonormal camera frame.
@@ -97,35 +157,113 @@ pub enum Camera {
         aperture: Aperture,
         /// Focal shortening at the rim (fraction).
         focus_shift: f64,
+        /// A glass: focus follows the wavelength.
+        glass: Option<ThinGlass>,
     },
     /// Real lens.
     Real(Box<real_lens::RealLensCamera>),
 }
 
 impl Camera {
+    /// Whether rays depend on wavelength (a real lens or thin lens with
+    /// glass).
+    pub fn is_dispersive(&self) -> bool {
+        match self {
+            Camera::Pinhole { .. } => false,
+            Camera::ThinLens { glass, .. } => glass.is_some(),
+            Camera::Real(c) => c.prescription().is_dispersive(),
+        }
+    }
+
+    /// The glasses whose data bound the wavelengths a render may use.
+    pub fn glasses(&self) -> Vec<&lens::glass::Glass> {
+        match self {
+            Camera::Pinhole { .. } => vec![],
+            Camera::ThinLens { glass, .. } => glass.iter().map(|g| &*g.glass).collect(),
+            Camera::Real(c) => c.prescription().glasses().iter().collect(),
+        }
+    }
+
     /// The camera ray through film position (u, v) with aperture sample
-    /// `a`, and its weight.
+    /// `a`, and its weight (RGB: the lens at its primary wavelength).
     pub fn ray(&self, u: f64, v: f64, a: (f64, f64)) -> Option<(Ray, f64)> {
+        self.ray_at(u, v, a, None)
+    }
+
+    /// [`Self::ray`] at wavelength `nm` (`None`: the primary).
+    pub fn ray_at(&self, u: f64, v: f64, a: (f64, f64), nm: Option<f64>) -> Option<(Ray, f64)> {
         match self {
             Camera::Pinhole { frame, tan_half, aspect } => {
                 let d = pinhole_dir(frame, *tan_half, *aspect, u, v);
                 Some((Ray { origin: frame.origin, dir: d }, 1.0))
             }
-            Camera::ThinLens { frame, tan_half, aspect, radius, focus, aperture, focus_shift } => {
+            Camera::ThinLens { frame, tan_half, aspect, radius, focus, aperture, focus_shift, glass } => {
                 let d = pinhole_dir(frame, *tan_half, *aspect, u, v);
                 if *radius == 0.0 {
                     return Some((Ray { origin: frame.origin, dir: d }, 1.0));
                 }
                 let (ax, ay) = aperture.sample(a);
                 let rho = (ax * ax + ay * ay).sqrt();
+                let inv_focus = match (glass, nm) {
+                    (Some(g), Some(nm)) => g.inverse_focus(nm),
+                    _ => 1.0 / focus,
+                };
                 // the study's trick: focus nearer for samples far from the centre
-                let f = focus * (1.0 - focus_shift * rho);
-                let p_focus = frame.origin + d * (f / d.dot(frame.forward));
-                let o = frame.origin + frame.right * (ax * radius) + frame.up * (ay * radius);
-                let dir = (p_focus - o).normalize();
-                Some((Ray { origin: o, dir }, 1.0))
+                let inv_focus = inv_focus / (1.0 - focus_shift * rho);
+                // a thin lens bends the ray through aperture point a by
+                // -a / s: toward the point of the plane in focus (distance
+                // s) that the central ray meets, or away from a virtual one
+                let offset = frame.right * (ax * radius) + frame.up * (ay * radius);
+                let dir = (d / d.dot(frame.forward) - offset * inv_focus).normalize();
+                Some((Ray { origin: frame.origin + offset, dir }, 1.0))
             }
-            Camera::Real(c) => c.ray(u, v, a),
+            Camera::Real(c) => c.ray_at(u, v, a, nm),
+        }
+    }
+
+    /// The camera rays of samples that carry four wavelengths each (the
+    /// hero is `samples[k].wavelength_nm`, `wavelengths[k].nm[0]`), with
+    /// each wavelength's [`SpectralLane`]. A camera whose rays do not
+    /// depend on wavelength gives every wavelength the hero's lane (its
+    /// weight as the transmission, density 1).
+    pub fn rays_spectral(
+        &self,
+        samples: &[CameraSample],
+        wavelengths: &[SampledWavelengths],
+        out: &mut Vec<Option<(Ray, [SpectralLane; N])>>,
+    ) {
+        match self {
+            Camera::Real(c) if c.prescription().is_dispersive() => c.rays_spectral(samples, wavelengths, out),
+            Camera::ThinLens { frame, tan_half, aspect, radius, aperture, focus_shift, glass: Some(g), .. } => {
+                out.clear();
+                out.extend(samples.iter().zip(wavelengths).map(|(s, wl)| {
+                    let (ray, _) = self.ray_at(s.film.0, s.film.1, s.aperture, Some(wl.hero()))?;
+                    let (ax, ay) = aperture.sample(s.aperture);
+                    let shift = 1.0 - focus_shift * (ax * ax + ay * ay).sqrt();
+                    let offset = frame.right * (ax * radius) + frame.up * (ay * radius);
+                    // the central ray at each wavelength: the scene ray's
+                    // slope plus the bend the lens gives it there
+                    let lanes = wl.nm.map(|nm| {
+                        let d = ray.dir / ray.dir.dot(frame.forward) + offset * (g.inverse_focus(nm) / shift);
+                        let film = (
+                            0.5 + 0.5 * d.dot(frame.right) / (tan_half * aspect),
+                            0.5 - 0.5 * d.dot(frame.up) / tan_half,
+                        );
+                        SpectralLane { film, transmission: 1.0, density: 1.0 }
+                    });
+                    let mut lanes = lanes;
+                    lanes[0].film = s.film;
+                    Some((ray, lanes))
+                }));
+            }
+            _ => {
+                let mut plain = Vec::with_capacity(samples.len());
+                self.rays(samples, &mut plain);
+                out.clear();
+                out.extend(plain.into_iter().zip(samples).map(|(r, s)| {
+                    r.map(|(ray, w)| (ray, [SpectralLane { film: s.film, transmission: w, density: 1.0 }; N]))
+                }));
+            }
         }
     }
 
@@ -137,7 +275,7 @@ impl Camera {
             Camera::Real(c) => c.rays(samples, out),
             _ => {
                 out.clear();
-                out.extend(samples.iter().map(|s| self.ray(s.film.0, s.film.1, s.aperture)));
+                out.extend(samples.iter().map(|s| self.ray_at(s.film.0, s.film.1, s.aperture, s.wavelength_nm)));
             }
         }
     }

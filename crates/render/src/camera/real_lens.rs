@@ -11,11 +11,21 @@
 //! set of cells that contains every passing point ([`super::pupil`]), so
 //! the weight of a sample is the cells' area times cos^4 / d^2 (times a
 //! mask's transmission), and rays that do not pass have weight 0.
+//!
+//! Colour: a sample may carry a wavelength; the batch then goes through the
+//! lens crate's mixed-wavelength tracer, each ray refracted by its glasses'
+//! indices at its own wavelength, so axial and lateral colour and coloured
+//! bokeh rims come out of the trace. The weights do not depend on
+//! wavelength; the pupil bounds hold the passing targets of every
+//! wavelength a render samples.
 
 use super::aperture::Aperture;
 use super::pupil::PupilTables;
-use super::{CameraError, CameraSample, Frame};
+use super::{CameraError, CameraSample, Frame, SpectralLane};
 use crate::geometry::Ray;
+use crate::spectrum::sampled::N;
+use crate::spectrum::SampledWavelengths;
+use lens::trace::SpectralBatch;
 use lens::{DVec3, Prescription, RayBatch, Tracer};
 
 /// A real lens in a scene.
@@ -26,6 +36,9 @@ pub struct RealLensCamera {
     /// Film to object space (round stop), or film to the stop and the stop
     /// to object space (shaped stop: the shape is tested at the stop).
     trace: LensTrace,
+    /// The same, scene to film (for a scene ray's film point at another
+    /// wavelength).
+    back: LensTrace,
     /// z of the film, mm from the first vertex.
     z_film: f64,
     /// z of the rear vertex plane, where rays are aimed.
@@ -59,27 +72,54 @@ impl LensTrace {
         LensTrace::AtStop(Tracer::reverse_range(p, stop..n), rest)
     }
 
-    /// Traces `batch` (film rays, global frame, mm) in place; afterwards a
-    /// ray with status 0 has passed. For a shaped stop, `shape(x, y)` (the
+    /// Scene to film: the whole lens, or object to the stop (inclusive)
+    /// and on to the film.
+    fn new_forward(p: &Prescription, aperture: &Aperture) -> Self {
+        if *aperture == Aperture::Circle {
+            return LensTrace::Whole(Tracer::forward(p));
+        }
+        let (stop, n) = (p.stop_index(), p.surfaces().len());
+        LensTrace::AtStop(Tracer::forward_range(p, 0..stop + 1), Some(Tracer::forward_range(p, stop + 1..n)))
+    }
+
+    /// Traces `batch` (film rays, global frame, mm) in place, each ray at
+    /// its wavelength when `spectral` (else all at the primary); afterwards
+    /// a ray with status 0 has passed. For a shaped stop, `shape(x, y)` (the
     /// stop hit, mm) gives the transmission there, written to `t`; rays it
     /// does not transmit are given a non-zero status.
-    pub(crate) fn trace(&self, batch: &mut RayBatch, t: &mut Vec<f64>, shape: impl Fn(f64, f64) -> f64) {
+    pub(crate) fn trace(
+        &self,
+        batch: &mut SpectralBatch,
+        spectral: bool,
+        t: &mut Vec<f64>,
+        shape: impl Fn(f64, f64) -> f64,
+    ) {
         t.clear();
         t.resize(batch.len(), 1.0);
+        let run = |tr: &Tracer, b: &mut SpectralBatch| {
+            if !spectral {
+                tr.trace_soa(&mut b.rays);
+            } else if tr.trace_spectral(b).is_err() {
+                // the render samples only wavelengths inside every glass's
+                // data; a wavelength outside blocks its ray
+                b.rays.status.fill(u64::MAX);
+            }
+        };
         match self {
-            LensTrace::Whole(tr) => tr.trace_soa(batch),
+            LensTrace::Whole(tr) => run(tr, batch),
             LensTrace::AtStop(to_stop, rest) => {
-                to_stop.trace_soa(batch);
+                run(to_stop, batch);
+                let rays = &mut batch.rays;
                 for (i, ti) in t.iter_mut().enumerate() {
-                    if batch.status[i] == 0 {
-                        *ti = shape(batch.x[i], batch.y[i]);
+                    if rays.status[i] == 0 {
+                        *ti = shape(rays.x[i], rays.y[i]);
                         if *ti <= 0.0 {
-                            batch.status[i] = u64::MAX;
+                            rays.status[i] = u64::MAX;
                         }
                     }
                 }
                 if let Some(rest) = rest {
-                    rest.trace_soa(batch);
+                    run(rest, batch);
                 }
             }
         }
@@ -109,11 +149,28 @@ impl RealLensCamera {
         let z_rear = p.last_vertex_z();
         let half_diag = 0.5 * (sensor[0].hypot(sensor[1]));
         let trace = LensTrace::new(&p, &aperture);
+        let back = LensTrace::new_forward(&p, &aperture);
         let stop_sd = p.stop_semi_diameter();
-        let tables = PupilTables::build(&p, &aperture, z_film, z_rear, half_diag);
+        // a spectral render samples at most 360-830 nm, within the glasses'
+        // data: the bounds hold both ends
+        let ends: Vec<f64> = if p.is_dispersive() {
+            let (lo, hi) =
+                p.glasses().iter().fold((crate::spectrum::cie::MIN_NM, crate::spectrum::cie::MAX_NM), |(lo, hi), g| {
+                    (lo.max(g.range_nm[0]), hi.min(g.range_nm[1]))
+                });
+            if lo < hi {
+                vec![lo, hi]
+            } else {
+                vec![]
+            }
+        } else {
+            vec![]
+        };
+        let tables = PupilTables::build(&p, &aperture, z_film, z_rear, half_diag, &ends);
         let mut cam = RealLensCamera {
             frame,
             trace,
+            back,
             stop_sd,
             prescription: p,
             z_film,
@@ -151,10 +208,10 @@ impl RealLensCamera {
         const N: usize = 65_536;
         let g = 0.618_033_988_749_894_9;
         let samples: Vec<CameraSample> = (0..N)
-            .map(|k| CameraSample { film: (0.5, 0.5), aperture: ((k as f64 + 0.5) / N as f64, (k as f64 * g).fract()) })
+            .map(|k| CameraSample::new((0.5, 0.5), ((k as f64 + 0.5) / N as f64, (k as f64 * g).fract())))
             .collect();
         let mut sum = 0.0;
-        self.lens_rays(&samples, |_, _, _, w| sum += w);
+        self.lens_rays(&samples, |_, _, _, t, w| sum += t * w);
         sum / N as f64
     }
 
@@ -168,13 +225,16 @@ impl RealLensCamera {
         Some((DVec3::new(fx, fy, self.z_film), DVec3::new(bx, by, self.z_rear), area))
     }
 
-    /// Traces `samples` and hands each passing ray (lens frame, leaving the
-    /// first surface, mm) with its unnormalised weight to `emit`, in order,
-    /// with the sample's index; blocked samples are skipped.
-    fn lens_rays(&self, samples: &[CameraSample], mut emit: impl FnMut(usize, &RayBatch, usize, f64)) {
+    /// Traces `samples` (each at its wavelength, if it has one and the
+    /// lens has glasses) and hands each passing ray (lens frame, leaving
+    /// the first surface, mm) with its unnormalised weight to `emit`, in
+    /// order, with the sample's index; blocked samples are skipped.
+    fn lens_rays(&self, samples: &[CameraSample], mut emit: impl FnMut(usize, &RayBatch, usize, f64, f64)) {
         let d = self.z_film - self.z_rear;
         let inv_d2 = 1.0 / (d * d);
-        let mut batch = RayBatch::with_capacity(BATCH.min(samples.len()));
+        let primary = self.prescription.wavelength_nm();
+        let spectral = self.prescription.is_dispersive() && samples.iter().any(|s| s.wavelength_nm.is_some());
+        let mut batch = SpectralBatch::with_capacity(BATCH.min(samples.len()));
         let mut t = Vec::new();
         // per sample: the bounds' area times the film-side cos^4 (taken
         // before the trace moves the rays)
@@ -189,24 +249,24 @@ impl RealLensCamera {
                     let len2 = dir.length_squared();
                     (len2 > 0.0 && len2.is_finite()).then(|| (f, dir / len2.sqrt(), b))
                 });
+                let nm = s.wavelength_nm.unwrap_or(primary);
                 match aimed {
                     Some((origin, direction, area)) => {
-                        batch.push(lens::Ray { origin, direction });
+                        batch.push(lens::Ray { origin, direction }, nm);
                         factor.push(area * direction.z.powi(4) * inv_d2);
                     }
                     None => {
-                        batch.push(lens::Ray::default());
+                        batch.push(lens::Ray::default(), nm);
                         let last = batch.len() - 1;
-                        batch.status[last] = u64::MAX;
+                        batch.rays.status[last] = u64::MAX;
                         factor.push(0.0);
                     }
                 }
             }
-            self.trace.trace(&mut batch, &mut t, shape);
+            self.trace.trace(&mut batch, spectral, &mut t, shape);
             for i in 0..chunk.len() {
-                let w = t[i] * factor[i];
-                if batch.status[i] == 0 && w > 0.0 {
-                    emit(c * BATCH + i, &batch, i, w);
+                if batch.rays.status[i] == 0 && t[i] * factor[i] > 0.0 {
+                    emit(c * BATCH + i, &batch.rays, i, t[i], factor[i]);
                 }
             }
         }
@@ -222,19 +282,77 @@ impl RealLensCamera {
         let inv_norm = 1.0 / self.norm;
         // lens frame: x = right, y = up, z = against the viewing direction
         let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
-        self.lens_rays(samples, |k, b, i, w| {
+        self.lens_rays(samples, |k, b, i, t, w| {
             let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
             // a rotation of a unit vector: unit already
             let dir = to_world(b.dx[i], b.dy[i], -b.dz[i]);
-            out[k] = Some((Ray { origin, dir }, w * inv_norm));
+            out[k] = Some((Ray { origin, dir }, t * w * inv_norm));
         });
     }
 
+    /// Scene rays for samples that carry four wavelengths each (the hero,
+    /// `samples[k].wavelength_nm`, and `wavelengths[k].nm[1..]`), with
+    /// what each wavelength needs for the render's combination of them
+    /// ([`SpectralLane`]): the hero's ray is traced film to scene; then the
+    /// scene ray is traced back, scene to film, at each companion
+    /// wavelength, finding the film point and rear-plane target that send
+    /// light of that wavelength along the same scene ray.
+    pub fn rays_spectral(
+        &self,
+        samples: &[CameraSample],
+        wavelengths: &[SampledWavelengths],
+        out: &mut Vec<Option<(Ray, [SpectralLane; N])>>,
+    ) {
+        out.clear();
+        out.resize(samples.len(), None);
+        let f = &self.frame;
+        let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
+        // the heroes, and each passing one's scene ray in the lens frame
+        let mut back = SpectralBatch::with_capacity(3 * samples.len());
+        let mut owner = Vec::with_capacity(3 * samples.len());
+        self.lens_rays(samples, |k, b, i, t, w| {
+            let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
+            let dir = to_world(b.dx[i], b.dy[i], -b.dz[i]);
+            let hero = SpectralLane { film: samples[k].film, transmission: t, density: self.norm / w };
+            let mut lanes = [SpectralLane::BLOCKED; N];
+            lanes[0] = hero;
+            out[k] = Some((Ray { origin, dir }, lanes));
+            // into the lens from a millimetre in front of where it left
+            let d = DVec3::new(b.dx[i], b.dy[i], b.dz[i]);
+            let start = DVec3::new(b.x[i], b.y[i], b.z[i]) + d;
+            for (j, nm) in wavelengths[k].nm.iter().enumerate().skip(1) {
+                back.push(lens::Ray { origin: start, direction: -d }, *nm);
+                owner.push((k, j));
+            }
+        });
+        let mut t = Vec::new();
+        let shape = |x: f64, y: f64| self.aperture.transmission(x / self.stop_sd, y / self.stop_sd);
+        self.back.trace(&mut back, true, &mut t, shape);
+        let d = self.z_film - self.z_rear;
+        let r = &back.rays;
+        for (i, &(k, j)) in owner.iter().enumerate() {
+            if r.status[i] != 0 || !(t[i] > 0.0 && r.dz[i] > 0.0) {
+                continue;
+            }
+            let (fx, fy) = (r.x[i], r.y[i]);
+            let Some(area) = self.tables.area_at(fx, fy) else { continue };
+            let cos = r.dz[i];
+            let w = area * cos.powi(4) / (d * d);
+            if let Some((_, lanes)) = &mut out[k] {
+                lanes[j] = SpectralLane {
+                    film: (0.5 - fx / self.sensor[0], 0.5 + fy / self.sensor[1]),
+                    transmission: t[i],
+                    density: self.norm / w,
+                };
+            }
+        }
+    }
+
     /// The scene ray through one film position and its weight (see
-    /// [`Self::rays`]).
-    pub fn ray(&self, u: f64, v: f64, a: (f64, f64)) -> Option<(Ray, f64)> {
+    /// [`Self::rays`]), at wavelength `nm` (`None`: the primary).
+    pub fn ray_at(&self, u: f64, v: f64, a: (f64, f64), nm: Option<f64>) -> Option<(Ray, f64)> {
         let mut out = Vec::with_capacity(1);
-        self.rays(&[CameraSample { film: (u, v), aperture: a }], &mut out);
+        self.rays(&[CameraSample { film: (u, v), aperture: a, wavelength_nm: nm }], &mut out);
         out.pop().flatten()
     }
 }

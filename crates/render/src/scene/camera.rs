@@ -5,7 +5,7 @@
 use super::format::*;
 use super::{v3, FieldError};
 use crate::camera::aperture::Aperture;
-use crate::camera::{real_lens::RealLensCamera, Camera, Frame};
+use crate::camera::{real_lens::RealLensCamera, Camera, Frame, ThinGlass};
 use std::path::Path;
 
 /// The thin lens's distance to the plane in focus, from the distance `d`
@@ -53,6 +53,7 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
             focus_distance,
             aperture_shape,
             focus_shift,
+            glass,
             ..
         } => {
             let diameter = match (aperture, f_number, focal_length_mm) {
@@ -75,12 +76,27 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
             if !(focus_shift.is_finite() && (0.0..1.0).contains(focus_shift)) {
                 return Err(("camera.focus_shift".into(), "must be in [0, 1)".into()));
             }
+            let focus = lens_to_focus(*focus_distance, *focal_length_mm)?;
+            let glass = match (glass, focal_length_mm) {
+                (None, _) => None,
+                (Some(_), None) => {
+                    return Err((
+                        "camera.glass".into(),
+                        "a thin lens's glass needs focal_length_mm (the focal length at the d line)".into(),
+                    ))
+                }
+                (Some(name), Some(f_mm)) => {
+                    let (glass, nd) = super::find_glass(name).map_err(|e| ("camera.glass".to_string(), e.into()))?;
+                    Some(ThinGlass { glass, nd, focal_length: f_mm * 1e-3, film_distance: focus_distance - focus })
+                }
+            };
             Ok(Camera::ThinLens {
                 frame: pose(&c.pose())?,
                 tan_half: fov(*fov_deg)?,
                 aspect,
                 radius: diameter / 2.0,
-                focus: lens_to_focus(*focus_distance, *focal_length_mm)?,
+                focus,
+                glass,
                 aperture: Aperture::from_spec(aperture_shape, dir)
                     .map_err(|e| ("camera.aperture_shape".into(), e.into()))?,
                 focus_shift: *focus_shift,

@@ -121,6 +121,11 @@ pub enum CameraSpec {
         /// 0.1 = 10% shorter at the rim), imitating spherical aberration.
         #[serde(default)]
         focus_shift: f64,
+        /// A glass for the lens (`"SCHOTT:N-BK7"`, with `focal_length_mm`):
+        /// its focal length follows the glass's dispersion, f(λ) = f
+        /// (nd - 1) / (n(λ) - 1), the cheap model of axial colour.
+        #[serde(default)]
+        glass: Option<String>,
     },
     /// A real lens traced surface by surface.
     Lens {
@@ -166,6 +171,57 @@ pub struct FilmSpec {
     /// Pixel reconstruction filter.
     #[serde(default)]
     pub filter: FilterSpec,
+    /// RGB or spectral transport (default: spectral exactly when the scene
+    /// has a dispersive lens or material or a light given as a spectrum).
+    #[serde(default)]
+    pub spectral: SpectralSpec,
+    /// Render one wavelength only, nm (a grey image of the radiance there):
+    /// the lens's image at a spectral line.
+    #[serde(default)]
+    pub wavelength_nm: Option<f64>,
+}
+
+/// When a render carries wavelengths.
+#[derive(Debug, Clone, Copy, Deserialize, Default, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SpectralSpec {
+    /// Spectral when something in the scene depends on wavelength.
+    #[default]
+    Auto,
+    /// Always spectral.
+    On,
+    /// Always RGB: glasses at the d line (587.56 nm), a real lens at its
+    /// primary wavelength, spectral lights by their sRGB colour.
+    Off,
+}
+
+/// Emitted radiance: linear sRGB `[r, g, b]`, or a spectrum scaled to a
+/// luminance.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum RadianceSpec {
+    /// Linear sRGB.
+    Rgb(Rgb),
+    /// A spectrum.
+    Spectrum(SpectrumSpec),
+}
+
+/// A light's spectrum: `{"blackbody_k": 3200}` or `{"illuminant": "D65"}`
+/// (or `"A"`), with its luminance Y (default 1: as bright as RGB
+/// [1, 1, 1]).
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SpectrumSpec {
+    /// A black body at this temperature, K.
+    #[serde(default)]
+    pub blackbody_k: Option<f64>,
+    /// A CIE illuminant: "D65" or "A".
+    #[serde(default)]
+    pub illuminant: Option<String>,
+    /// Luminance Y (W / (m^2 sr) weighted by the CIE luminosity curve,
+    /// on the scale where RGB white [1, 1, 1] has Y = 1).
+    #[serde(default = "one")]
+    pub luminance: f64,
 }
 
 fn spp() -> u32 {
@@ -243,8 +299,8 @@ pub enum MaterialSpec {
     },
     /// Light emitter.
     Emissive {
-        /// Radiance.
-        radiance: Rgb,
+        /// Radiance: linear sRGB, or a spectrum.
+        radiance: RadianceSpec,
     },
     /// Mirror.
     Mirror {
@@ -252,10 +308,21 @@ pub enum MaterialSpec {
         #[serde(default = "white")]
         tint: Rgb,
     },
-    /// Glass.
+    /// Glass of a constant index.
     Glass {
         /// Refractive index.
         ior: f64,
+    },
+    /// A smooth dielectric: a constant `ior`, or a catalogue `glass`
+    /// (`"SCHOTT:N-BK7"`) whose index follows the wavelength (a prism
+    /// splits white light).
+    Dielectric {
+        /// Refractive index.
+        #[serde(default)]
+        ior: Option<f64>,
+        /// Catalogue glass, `VENDOR:NAME`.
+        #[serde(default)]
+        glass: Option<String>,
     },
 }
 
@@ -332,8 +399,8 @@ pub enum LightSpec {
     Point {
         /// Position, m.
         position: V3,
-        /// Intensity, W / sr per channel.
-        intensity: Rgb,
+        /// Intensity, W / sr per channel, or a spectrum.
+        intensity: RadianceSpec,
     },
 }
 

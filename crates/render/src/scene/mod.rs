@@ -8,9 +8,12 @@ use crate::bvh::{Bvh, BVH_THRESHOLD};
 use crate::camera::{Camera, CameraError};
 use crate::geometry::{Hit, Ray, Shape};
 use crate::material::Material;
+use crate::spectrum::{Colour, Illuminant, Radiance, WavelengthRange};
+use crate::transport::{Channels, Medium, Transport};
 use format::*;
 use glam::DVec3;
 use std::path::Path;
+use std::sync::Arc;
 
 /// Why a scene could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -101,38 +104,50 @@ impl From<&str> for FieldError {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Background {
     /// Uniform.
-    Constant(DVec3),
+    Constant(Radiance),
     /// Equirectangular environment image (already scaled by its intensity).
     Environment(Box<crate::image::Image>),
     /// Gradient.
     Sky {
         /// Horizon.
-        horizon: DVec3,
+        horizon: Radiance,
         /// Zenith.
-        zenith: DVec3,
+        zenith: Radiance,
         /// Below the horizon.
-        ground: DVec3,
+        ground: Radiance,
     },
 }
 
+/// How a render carries colour.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ColourMode {
+    /// Three linear sRGB channels.
+    Rgb,
+    /// Hero-wavelength spectral transport over a range of wavelengths, the
+    /// film in CIE XYZ.
+    Spectral(WavelengthRange),
+    /// One wavelength, nm: each pixel is the radiance there (grey).
+    Monochromatic(f64),
+}
+
 impl Background {
-    /// Radiance seen along `d`.
-    pub fn radiance(&self, d: DVec3) -> DVec3 {
-        match *self {
-            Background::Constant(c) => c,
-            Background::Environment(ref img) => {
+    /// Radiance seen along `d`, in the channels of `t`.
+    pub fn radiance<T: Transport>(&self, t: &T, d: DVec3) -> T::Value {
+        match self {
+            Background::Constant(c) => t.radiance(c),
+            Background::Environment(img) => {
                 // longitude from +z toward +x, latitude from +y down
                 let u = 0.5 + d.x.atan2(d.z) / std::f64::consts::TAU;
                 let v = d.y.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
                 let x = ((u * img.width as f64) as usize).min(img.width - 1);
                 let y = ((v * img.height as f64) as usize).min(img.height - 1);
-                img.pixels[y * img.width + x]
+                t.rgb_radiance(img.pixels[y * img.width + x])
             }
             Background::Sky { horizon, zenith, ground } => {
                 if d.y < 0.0 {
-                    ground
+                    t.radiance(ground)
                 } else {
-                    horizon.lerp(zenith, d.y.clamp(0.0, 1.0))
+                    t.radiance(horizon).mix(t.radiance(zenith), d.y.clamp(0.0, 1.0))
                 }
             }
         }
@@ -151,13 +166,15 @@ pub struct Scene {
     /// Primitives with an emissive material (area lights), bounded ones.
     pub emitters: Vec<usize>,
     /// Point lights: position, intensity.
-    pub point_lights: Vec<(DVec3, DVec3)>,
+    pub point_lights: Vec<(DVec3, Radiance)>,
     /// Background.
     pub background: Background,
     /// Camera.
     pub camera: Camera,
     /// Film settings.
     pub film: FilmSpec,
+    /// RGB, spectral or one wavelength.
+    pub colour: ColourMode,
     bvh: Option<Bvh>,
     /// Primitives tested one by one (planes, or all when there is no BVH).
     linear: Vec<usize>,
@@ -222,21 +239,37 @@ impl Scene {
                     Err(bad(format!("{field}.{what}"), "colours must be finite and >= 0".into()))
                 }
             };
-            materials.push(match *m {
-                MaterialSpec::Diffuse { color } => Material::Diffuse { albedo: rgb(color, "color")?.min(DVec3::ONE) },
+            let colour = |c: Rgb, what: &str| rgb(c, what).map(Colour::new);
+            let constant = |ior: f64| -> Result<Material, SceneError> {
+                if !(ior.is_finite() && ior >= 1.0) {
+                    return Err(bad(format!("{field}.ior"), format!("{ior}: a refractive index >= 1")));
+                }
+                Ok(Material::Dielectric { medium: Medium { ior, glass: None } })
+            };
+            materials.push(match m {
+                MaterialSpec::Diffuse { color } => Material::Diffuse { albedo: colour(*color, "color")? },
                 MaterialSpec::Checker { a, b, scale } => {
-                    if !(scale.is_finite() && scale > 0.0) {
+                    if !(scale.is_finite() && *scale > 0.0) {
                         return Err(bad(format!("{field}.scale"), "must be a positive size".into()));
                     }
-                    Material::Checker { a: rgb(a, "a")?.min(DVec3::ONE), b: rgb(b, "b")?.min(DVec3::ONE), scale }
+                    Material::Checker { a: colour(*a, "a")?, b: colour(*b, "b")?, scale: *scale }
                 }
-                MaterialSpec::Emissive { radiance } => Material::Emissive { radiance: rgb(radiance, "radiance")? },
-                MaterialSpec::Mirror { tint } => Material::Mirror { tint: rgb(tint, "tint")?.min(DVec3::ONE) },
-                MaterialSpec::Glass { ior } => {
-                    if !(ior.is_finite() && ior >= 1.0) {
-                        return Err(bad(format!("{field}.ior"), format!("{ior}: a refractive index >= 1")));
-                    }
-                    Material::Glass { ior }
+                MaterialSpec::Emissive { radiance } => Material::Emissive {
+                    radiance: radiance_of(radiance).map_err(|e| bad(format!("{field}.radiance"), e))?,
+                },
+                MaterialSpec::Mirror { tint } => Material::Mirror { tint: colour(*tint, "tint")? },
+                MaterialSpec::Glass { ior } => constant(*ior)?,
+                MaterialSpec::Dielectric { ior: Some(ior), glass: None } => constant(*ior)?,
+                MaterialSpec::Dielectric { ior: None, glass: Some(name) } => {
+                    let glass = find_glass(name).map_err(|e| bad(format!("{field}.glass"), e))?;
+                    Material::Dielectric { medium: Medium { ior: glass.1, glass: Some(glass.0) } }
+                }
+                MaterialSpec::Dielectric { .. } => {
+                    return Err(bad(
+                        field.clone(),
+                        "a dielectric needs either \"ior\" (a constant index) or \"glass\" (\"VENDOR:NAME\"), not both"
+                            .into(),
+                    ))
                 }
             });
             names.push(key.clone());
@@ -321,13 +354,13 @@ impl Scene {
         for (i, l) in file.lights.iter().enumerate() {
             let LightSpec::Point { position, intensity } = l;
             finite(&format!("lights[{i}].position"), position)?;
-            if !intensity.iter().all(|x| x.is_finite() && *x >= 0.0) {
-                return Err(bad(format!("lights[{i}].intensity"), "must be finite and >= 0".into()));
-            }
-            point_lights.push((v3(*position), v3(*intensity)));
+            let intensity = radiance_of(intensity).map_err(|e| bad(format!("lights[{i}].intensity"), e))?;
+            point_lights.push((v3(*position), intensity));
         }
+        let radiance =
+            |c: &Rgb, what: &str| radiance_of(&RadianceSpec::Rgb(*c)).map_err(|e| bad(format!("background.{what}"), e));
         let background = match &file.background {
-            BackgroundSpec::Constant { radiance } => Background::Constant(v3(*radiance)),
+            BackgroundSpec::Constant { radiance: c } => Background::Constant(radiance(c, "radiance")?),
             BackgroundSpec::Environment { exr, intensity } => {
                 if !(intensity.is_finite() && *intensity >= 0.0) {
                     return Err(bad("background.intensity".into(), "must be a finite number >= 0".into()));
@@ -342,15 +375,18 @@ impl Scene {
                 }
                 Background::Environment(Box::new(img))
             }
-            BackgroundSpec::Sky { horizon, zenith, ground } => {
-                Background::Sky { horizon: v3(*horizon), zenith: v3(*zenith), ground: v3(*ground) }
-            }
+            BackgroundSpec::Sky { horizon, zenith, ground } => Background::Sky {
+                horizon: radiance(horizon, "horizon")?,
+                zenith: radiance(zenith, "zenith")?,
+                ground: radiance(ground, "ground")?,
+            },
         };
         let camera = camera::build_camera(&file.camera, f, dir).map_err(|(field, source)| SceneError::Invalid {
             path: name.to_string(),
             field,
             source,
         })?;
+        let colour = colour_mode(&file.film, &camera, &materials, &point_lights).map_err(|(field, e)| bad(field, e))?;
         // acceleration only when there are enough bounded primitives
         let bounded: Vec<usize> = (0..shapes.len()).filter(|&i| !matches!(shapes[i], Shape::Plane { .. })).collect();
         let (bvh, linear) = if bounded.len() >= BVH_THRESHOLD {
@@ -368,9 +404,23 @@ impl Scene {
             background,
             camera,
             film: file.film,
+            colour,
             bvh,
             linear,
         })
+    }
+
+    /// Overrides the film's `spectral` and `wavelength_nm` settings (as
+    /// the command line's `--spectral` and `--wavelength-nm` do); errors
+    /// name the flag's field.
+    pub fn set_colour(&mut self, spectral: SpectralSpec, wavelength_nm: Option<f64>) -> Result<(), SceneError> {
+        let mut film = self.film.clone();
+        film.spectral = spectral;
+        film.wavelength_nm = wavelength_nm;
+        self.colour = colour_mode(&film, &self.camera, &self.materials, &self.point_lights)
+            .map_err(|(field, e)| SceneError::Invalid { path: "command line".into(), field, source: e.into() })?;
+        self.film = film;
+        Ok(())
     }
 
     /// Nearest hit: (primitive, hit).
@@ -399,6 +449,102 @@ impl Scene {
         let r = Ray { origin: a, dir: d / len };
         self.intersect(&r, crate::geometry::EPS * (1.0 + a.abs().max_element()), len * (1.0 - 1e-7)).is_none()
     }
+}
+
+/// A catalogue glass by `VENDOR:NAME`, with its index at the d line.
+fn find_glass(name: &str) -> Result<(Arc<lens::glass::Glass>, f64), String> {
+    let g = lens::glass::Catalogs::shipped().find(name).map_err(|e| e.to_string())?;
+    let nd = g.nd().map_err(|e| e.to_string())?;
+    Ok((Arc::new(g.clone()), nd))
+}
+
+/// A light's radiance from its spec; errors say what to change.
+fn radiance_of(spec: &RadianceSpec) -> Result<Radiance, String> {
+    match spec {
+        RadianceSpec::Rgb(c) => {
+            if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
+                Ok(Radiance::rgb(v3(*c)))
+            } else {
+                Err("colours must be finite and >= 0".into())
+            }
+        }
+        RadianceSpec::Spectrum(s) => {
+            if !(s.luminance.is_finite() && s.luminance >= 0.0) {
+                return Err(format!("luminance {}: give a finite luminance >= 0", s.luminance));
+            }
+            match (s.blackbody_k, s.illuminant.as_deref()) {
+                (Some(k), None) if k.is_finite() && (500.0..=100_000.0).contains(&k) => {
+                    Ok(Radiance::blackbody(k, s.luminance))
+                }
+                (Some(k), None) => Err(format!("blackbody_k {k}: give a temperature from 500 to 100000 K")),
+                (None, Some(name)) => match name.to_ascii_uppercase().as_str() {
+                    "D65" => Ok(Radiance::illuminant(Illuminant::D65, s.luminance)),
+                    "A" => Ok(Radiance::illuminant(Illuminant::A, s.luminance)),
+                    _ => Err(format!("illuminant \"{name}\": the CIE illuminants known are \"D65\" and \"A\"")),
+                },
+                _ => Err("give either blackbody_k (kelvin) or illuminant (\"D65\" or \"A\")".into()),
+            }
+        }
+    }
+}
+
+/// RGB or spectral, from the film's setting and what in the scene depends
+/// on wavelength; a spectral render's range is 360-830 nm narrowed to every
+/// glass's data.
+fn colour_mode(
+    film: &FilmSpec,
+    camera: &Camera,
+    materials: &[Material],
+    point_lights: &[(DVec3, Radiance)],
+) -> Result<ColourMode, (String, String)> {
+    let material_glasses = materials.iter().filter_map(|m| match m {
+        Material::Dielectric { medium: Medium { glass: Some(g), .. } } => Some(&**g),
+        _ => None,
+    });
+    let glasses: Vec<&lens::glass::Glass> = camera.glasses().into_iter().chain(material_glasses).collect();
+    let (mut lo, mut hi) = (crate::spectrum::cie::MIN_NM, crate::spectrum::cie::MAX_NM);
+    for g in &glasses {
+        lo = lo.max(g.range_nm[0]);
+        hi = hi.min(g.range_nm[1]);
+    }
+    if let Some(nm) = film.wavelength_nm {
+        if !(crate::spectrum::cie::MIN_NM..=crate::spectrum::cie::MAX_NM).contains(&nm) {
+            return Err(("film.wavelength_nm".into(), format!("{nm}: give a wavelength from 360 to 830 nm")));
+        }
+        if let Some(g) = glasses.iter().find(|g| !(nm >= g.range_nm[0] && nm <= g.range_nm[1])) {
+            return Err((
+                "film.wavelength_nm".into(),
+                format!(
+                    "{nm} nm is outside the data of {} ({}-{} nm): choose a wavelength inside it",
+                    g.full_name(),
+                    g.range_nm[0],
+                    g.range_nm[1]
+                ),
+            ));
+        }
+        return Ok(ColourMode::Monochromatic(nm));
+    }
+    let wavelength_dependent = camera.is_dispersive()
+        || !glasses.is_empty()
+        || materials.iter().any(|m| matches!(m, Material::Emissive { radiance } if radiance.is_spectral()))
+        || point_lights.iter().any(|(_, r)| r.is_spectral());
+    let spectral = match film.spectral {
+        SpectralSpec::On => true,
+        SpectralSpec::Off => false,
+        SpectralSpec::Auto => wavelength_dependent,
+    };
+    if !spectral {
+        return Ok(ColourMode::Rgb);
+    }
+    if hi - lo < 100.0 || hi.is_nan() || lo.is_nan() {
+        return Err((
+            "film.spectral".into(),
+            format!(
+                "the glasses' data overlap only over {lo}-{hi} nm of the visible: a spectral render needs 100 nm or more; set \"spectral\": \"off\""
+            ),
+        ));
+    }
+    Ok(ColourMode::Spectral(WavelengthRange::new(lo, hi)))
 }
 
 #[cfg(feature = "exr")]

@@ -35,6 +35,12 @@
 //! Either way the density of targets over the rear plane is known exactly
 //! (uniform over the region), so the estimator is unbiased as long as the
 //! region contains every passing target, which the growth margins see to.
+//!
+//! A lens with glasses passes a slightly different region at each
+//! wavelength: a probe counts as passing when it passes at the primary
+//! wavelength or at either end of the range a spectral render samples, so
+//! the region holds them all. (A shaped stop's map from rear plane to stop
+//! is fitted at the primary wavelength; its margin is the fit's residual.)
 
 mod cells;
 mod fan;
@@ -126,6 +132,9 @@ pub struct PupilTables {
 /// both, and its stop point is where the first part left it.
 pub(super) struct Probe {
     whole: Tracer,
+    /// The whole lens at the other wavelengths bounded (none for a lens
+    /// without glasses).
+    others: Vec<Tracer>,
     to_stop: Tracer,
     rest: Option<Tracer>,
     z_film: f64,
@@ -182,11 +191,25 @@ impl Probe {
         radii
             .iter()
             .map(|&r| {
-                self.aim(r, targets, &mut batch);
-                self.whole.trace_soa(&mut batch);
-                batch.status.iter().map(|s| *s == 0).collect()
+                let mut pass = vec![false; targets.len()];
+                self.each_wavelength(r, targets, &mut batch, |i| pass[i] = true);
+                pass
             })
             .collect()
+    }
+
+    /// Calls `passed(i)` for each target `i` whose ray from film radius
+    /// `r` passes at any of the bounded wavelengths.
+    fn each_wavelength(&self, r: f64, targets: &[(f64, f64)], batch: &mut RayBatch, mut passed: impl FnMut(usize)) {
+        for tracer in std::iter::once(&self.whole).chain(&self.others) {
+            self.aim(r, targets, batch);
+            tracer.trace_soa(batch);
+            for (i, s) in batch.status.iter().enumerate() {
+                if *s == 0 {
+                    passed(i);
+                }
+            }
+        }
     }
 
     /// Whether the ray toward each target passes from any film radius of
@@ -195,11 +218,7 @@ impl Probe {
         let mut batch = RayBatch::with_capacity(targets.len());
         let mut any = vec![false; targets.len()];
         for &r in radii {
-            self.aim(r, targets, &mut batch);
-            self.whole.trace_soa(&mut batch);
-            for (a, s) in any.iter_mut().zip(&batch.status) {
-                *a |= *s == 0;
-            }
+            self.each_wavelength(r, targets, &mut batch, |i| any[i] = true);
         }
         any
     }
@@ -207,11 +226,24 @@ impl Probe {
 
 impl PupilTables {
     /// Bounds the exit pupil of the focused prescription `p` for film
-    /// points up to `half_diag` mm from the centre, the bins in parallel.
-    pub(crate) fn build(p: &Prescription, aperture: &Aperture, z_film: f64, z_rear: f64, half_diag: f64) -> Self {
+    /// points up to `half_diag` mm from the centre, the bins in parallel,
+    /// at its primary wavelength and at each of `wavelengths_nm`.
+    pub(crate) fn build(
+        p: &Prescription,
+        aperture: &Aperture,
+        z_film: f64,
+        z_rear: f64,
+        half_diag: f64,
+        wavelengths_nm: &[f64],
+    ) -> Self {
         let (stop, n) = (p.stop_index(), p.surfaces().len());
         let probe = Probe {
             whole: Tracer::reverse(p),
+            others: wavelengths_nm
+                .iter()
+                .filter_map(|nm| p.at_wavelength(*nm).ok())
+                .map(|q| Tracer::reverse(&q))
+                .collect(),
             to_stop: Tracer::reverse_range(p, stop..n),
             rest: (stop > 0).then(|| Tracer::reverse_range(p, 0..stop)),
             z_film,
@@ -245,15 +277,7 @@ impl PupilTables {
     /// mm), and the area of the region it was drawn from (mm^2; targets are
     /// uniform over it). `None` when no ray passes from there.
     pub fn sample(&self, fx: f64, fy: f64, a: (f64, f64)) -> Option<(f64, (f64, f64))> {
-        let r = (fx * fx + fy * fy).sqrt();
-        let bin = ((r / self.bin_width) as usize).min(BINS - 1);
-        let b = self.bins.get(bin)?;
-        let (c, s) = if r > 0.0 {
-            let inv = 1.0 / r;
-            (fx * inv, fy * inv)
-        } else {
-            (1.0, 0.0)
-        };
+        let (b, c, s) = self.bin_at(fx, fy)?;
         let rotate = |(x, y): (f64, f64)| (c * x - s * y, s * x + c * y);
         Some(match b {
             PupilBounds::Empty => return None,
@@ -290,6 +314,46 @@ impl PupilTables {
                 (*area, rotate((m[0] * qx + m[1] * qy, m[2] * qx + m[3] * qy)))
             }
         })
+    }
+}
+
+impl PupilTables {
+    /// The bin of film point (fx, fy) mm, and the cosine and sine of its
+    /// azimuth.
+    fn bin_at(&self, fx: f64, fy: f64) -> Option<(&PupilBounds, f64, f64)> {
+        let r = (fx * fx + fy * fy).sqrt();
+        if !r.is_finite() {
+            return None;
+        }
+        let bin = ((r / self.bin_width) as usize).min(BINS - 1);
+        let b = self.bins.get(bin)?;
+        let (c, s) = if r > 0.0 {
+            let inv = 1.0 / r;
+            (fx * inv, fy * inv)
+        } else {
+            (1.0, 0.0)
+        };
+        Some((b, c, s))
+    }
+
+    /// The area (mm^2) of the region targets are drawn from for film point
+    /// (fx, fy) mm: what [`Self::sample`] returns with its target. `None`
+    /// where no ray passes.
+    pub fn area_at(&self, fx: f64, fy: f64) -> Option<f64> {
+        let (b, c, s) = self.bin_at(fx, fy)?;
+        match b {
+            PupilBounds::Empty => None,
+            PupilBounds::Cells { whole, whole_side, sub, sub_side } => {
+                Some(whole.len() as f64 * whole_side * whole_side + sub.len() as f64 * sub_side * sub_side)
+            }
+            PupilBounds::Star(fan) => Some(fan.area()),
+            PupilBounds::Shaped { period, buckets } => {
+                let phi = s.atan2(c).rem_euclid(*period);
+                let k = ((phi / period * buckets.len() as f64) as usize).min(buckets.len() - 1);
+                Some(buckets[k].area())
+            }
+            PupilBounds::Stop { area, .. } => Some(*area),
+        }
     }
 }
 

@@ -24,5 +24,5 @@ fn every_shipped_prescription_validates_and_cites_its_source() {
         let focus = lens::analysis::focus::focus(&p, lens::paraxial::ObjectDistance::Infinity).unwrap();
         assert!(focus.best_focus_film_distance.is_finite());
     }
-    assert_eq!(count, 11, "expected the eleven shipped prescriptions");
+    assert_eq!(count, 12, "expected the twelve shipped prescriptions");
 }

@@ -118,20 +118,40 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                     }
                 }
                 if let ColourMode::Spectral(_) = scene.colour {
-                    scene.camera.rays_spectral(&samples, &colours, &mut lanes);
+                    // a camera whose rays do not depend on wavelength sends
+                    // all four along one ray with its plain weight
+                    let dispersive = scene.camera.is_dispersive();
+                    if dispersive {
+                        scene.camera.rays_spectral(&samples, &colours, &mut lanes);
+                    } else {
+                        scene.camera.rays(&samples, &mut rays);
+                    }
                     for (i, s) in samplers.iter_mut().enumerate() {
                         let x = x0 + i;
                         let mut sum = DVec3::ZERO;
                         for k in i * spp..(i + 1) * spp {
-                            let Some((ray, lane)) = &lanes[k] else { continue };
-                            if lane[0].transmission.is_nan() || lane[0].transmission <= 0.0 {
-                                continue;
-                            }
+                            let (ray, lane, weight) = if dispersive {
+                                match &lanes[k] {
+                                    Some((ray, lane)) if lane[0].transmission > 0.0 => (*ray, Some(lane), 1.0),
+                                    _ => continue,
+                                }
+                            } else {
+                                match rays[k] {
+                                    Some((ray, w)) if w > 0.0 => (ray, None, w),
+                                    _ => continue,
+                                }
+                            };
                             row_passed += 1;
-                            let mut t = Spectral { wavelengths: colours[k] };
-                            let l = radiance(scene, *ray, &mut t, s);
-                            let pixel = |film: (f64, f64)| pixel_density(scene.film.filter, film, (x, y), (w, h));
-                            sum += combine(&t.wavelengths, l, lane, pixel);
+                            let mut t = Spectral::new(colours[k]);
+                            let l = radiance(scene, ray, &mut t, s);
+                            sum += match lane {
+                                Some(lane) => {
+                                    let pixel =
+                                        |film: (f64, f64)| pixel_density(scene.film.filter, film, (x, y), (w, h));
+                                    combine(&t.wavelengths, l, lane, pixel)
+                                }
+                                None => t.wavelengths.xyz(l) * weight,
+                            };
                         }
                         row.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));
                     }
@@ -146,7 +166,7 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                             sum += *weight
                                 * match scene.colour {
                                     ColourMode::Monochromatic(nm) => {
-                                        let mut t = Spectral { wavelengths: SampledWavelengths::single(nm) };
+                                        let mut t = Spectral::new(SampledWavelengths::single(nm));
                                         DVec3::splat(radiance(scene, *ray, &mut t, s).0[0])
                                     }
                                     _ => radiance(scene, *ray, &mut Rgb, s),
@@ -179,7 +199,12 @@ fn combine(
     lanes: &[SpectralLane; N],
     pixel: impl Fn((f64, f64)) -> f64,
 ) -> DVec3 {
-    let pix: [f64; N] = std::array::from_fn(|j| if lanes[j].density > 0.0 { pixel(lanes[j].film) } else { 0.0 });
+    let mut pix = [0.0; N];
+    for j in 0..N {
+        if lanes[j].density > 0.0 {
+            pix[j] = pixel(lanes[j].film);
+        }
+    }
     if wl.secondary_terminated() {
         let (lane, p) = (&lanes[0], pix[0] * lanes[0].density);
         return if p > 0.0 {
@@ -188,7 +213,10 @@ fn combine(
             DVec3::ZERO
         };
     }
-    let total: f64 = (0..N).map(|m| pix[m] * lanes[m].density).sum();
+    let mut total = 0.0;
+    for m in 0..N {
+        total += pix[m] * lanes[m].density;
+    }
     if total.is_nan() || total <= 0.0 {
         return DVec3::ZERO;
     }

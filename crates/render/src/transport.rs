@@ -3,6 +3,8 @@
 //! [`Transport`]; an RGB render monomorphises to the plain RGB code and
 //! pays nothing for spectra.
 
+use crate::spectrum::cie::{self, MAX_NM, MIN_NM};
+use crate::spectrum::sampled::N;
 use crate::spectrum::{Colour, Radiance, SampledSpectrum, SampledWavelengths};
 use glam::DVec3;
 use lens::glass::Glass;
@@ -97,6 +99,35 @@ impl Transport for Rgb {
 pub struct Spectral {
     /// The wavelengths and their densities.
     pub wavelengths: SampledWavelengths,
+    /// Per wavelength: its place in the fitted spectra's range, (λ - 360)
+    /// / 470, and D65 there (luminance 1): computed once per path, used at
+    /// every surface and light it meets.
+    t: [f64; N],
+    d65: [f64; N],
+}
+
+impl Spectral {
+    /// A path carrying `wavelengths`.
+    pub fn new(wavelengths: SampledWavelengths) -> Self {
+        let nm = wavelengths.nm;
+        let table = cie::d65_normalised_table();
+        let (mut t, mut d65) = ([0.0; N], [0.0; N]);
+        for j in 0..N {
+            t[j] = (nm[j] - MIN_NM) / (MAX_NM - MIN_NM);
+            d65[j] = cie::d65_normalised_with(table, nm[j]);
+        }
+        Spectral { wavelengths, t, d65 }
+    }
+
+    /// How many wavelengths are live: four, or the hero alone.
+    #[inline]
+    fn lanes(&self) -> usize {
+        if self.wavelengths.secondary_terminated() {
+            1
+        } else {
+            N
+        }
+    }
 }
 
 impl Transport for Spectral {
@@ -104,15 +135,36 @@ impl Transport for Spectral {
     #[inline]
     fn reflectance(&self, c: &Colour) -> SampledSpectrum {
         let s = c.spectrum();
-        SampledSpectrum::of(&self.wavelengths, |l| s.at(l))
+        let mut v = [0.0; N];
+        for j in 0..self.lanes() {
+            v[j] = s.at_t(self.t[j]);
+        }
+        SampledSpectrum(v)
     }
     #[inline]
     fn radiance(&self, r: &Radiance) -> SampledSpectrum {
-        SampledSpectrum::of(&self.wavelengths, |l| r.at(l))
+        let mut v = [0.0; N];
+        match r.rgb_illuminant() {
+            Some(e) => {
+                for j in 0..self.lanes() {
+                    v[j] = e.scale * e.shape.at_t(self.t[j]) * self.d65[j];
+                }
+            }
+            None => {
+                for j in 0..self.lanes() {
+                    v[j] = r.at(self.wavelengths.nm[j]);
+                }
+            }
+        }
+        SampledSpectrum(v)
     }
     fn rgb_radiance(&self, rgb: DVec3) -> SampledSpectrum {
         let e = crate::spectrum::upsample::illuminant_from_table(rgb);
-        SampledSpectrum::of(&self.wavelengths, |l| e.at(l))
+        let mut v = [0.0; N];
+        for j in 0..self.lanes() {
+            v[j] = e.scale * e.shape.at_t(self.t[j]) * self.d65[j];
+        }
+        SampledSpectrum(v)
     }
     fn ior(&mut self, m: &Medium) -> f64 {
         match &m.glass {

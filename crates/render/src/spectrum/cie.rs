@@ -117,8 +117,28 @@ pub fn y_integral() -> f64 {
 }
 
 /// D65 scaled to luminance Y = 1: the spectrum of RGB white (1, 1, 1).
+#[inline]
 pub fn d65_normalised(nm: f64) -> f64 {
-    d65(nm) / constants().d65_luminance
+    d65_normalised_with(d65_normalised_table(), nm)
+}
+
+/// The D65 table scaled to luminance 1 (computed once).
+pub fn d65_normalised_table() -> &'static [f64; 95] {
+    static T: OnceLock<[f64; 95]> = OnceLock::new();
+    T.get_or_init(|| D65.map(|v| v / constants().d65_luminance))
+}
+
+/// [`d65_normalised`] from its table (fetched once for several
+/// wavelengths).
+#[inline]
+pub fn d65_normalised_with(table: &[f64; 95], nm: f64) -> f64 {
+    if !(FIRST_NM..=LAST_NM).contains(&nm) {
+        return 0.0;
+    }
+    let x = (nm - FIRST_NM) / 5.0;
+    let i = (x as usize).min(table.len() - 2);
+    let f = x - i as f64;
+    table[i] + (table[i + 1] - table[i]) * f
 }
 
 /// Linear sRGB (balanced to the D65 table) of tristimulus `xyz`.

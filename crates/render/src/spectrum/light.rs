@@ -96,6 +96,16 @@ impl Radiance {
         }
     }
 
+    /// The fitted illuminant of an RGB radiance (fitted on first use);
+    /// `None` for one given as a spectrum.
+    #[inline]
+    pub fn rgb_illuminant(&self) -> Option<&RgbIlluminant> {
+        match &self.kind {
+            Kind::Rgb(fit) => Some(fit.get_or_init(|| RgbIlluminant::fit(self.rgb))),
+            _ => None,
+        }
+    }
+
     /// Multiplied by `k` >= 0 (an environment's intensity).
     pub fn scaled(&self, k: f64) -> Self {
         let kind = match &self.kind {

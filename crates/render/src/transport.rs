@@ -128,6 +128,16 @@ impl Spectral {
             N
         }
     }
+
+    /// `f(j)` for each live wavelength j, 0 for the others.
+    #[inline]
+    fn per_lane(&self, f: impl Fn(usize) -> f64) -> SampledSpectrum {
+        let mut v = [0.0; N];
+        for (j, vj) in v.iter_mut().enumerate().take(self.lanes()) {
+            *vj = f(j);
+        }
+        SampledSpectrum(v)
+    }
 }
 
 impl Transport for Spectral {
@@ -135,36 +145,18 @@ impl Transport for Spectral {
     #[inline]
     fn reflectance(&self, c: &Colour) -> SampledSpectrum {
         let s = c.spectrum();
-        let mut v = [0.0; N];
-        for j in 0..self.lanes() {
-            v[j] = s.at_t(self.t[j]);
-        }
-        SampledSpectrum(v)
+        self.per_lane(|j| s.at_t(self.t[j]))
     }
     #[inline]
     fn radiance(&self, r: &Radiance) -> SampledSpectrum {
-        let mut v = [0.0; N];
         match r.rgb_illuminant() {
-            Some(e) => {
-                for j in 0..self.lanes() {
-                    v[j] = e.scale * e.shape.at_t(self.t[j]) * self.d65[j];
-                }
-            }
-            None => {
-                for j in 0..self.lanes() {
-                    v[j] = r.at(self.wavelengths.nm[j]);
-                }
-            }
+            Some(e) => self.per_lane(|j| e.scale * e.shape.at_t(self.t[j]) * self.d65[j]),
+            None => self.per_lane(|j| r.at(self.wavelengths.nm[j])),
         }
-        SampledSpectrum(v)
     }
     fn rgb_radiance(&self, rgb: DVec3) -> SampledSpectrum {
         let e = crate::spectrum::upsample::illuminant_from_table(rgb);
-        let mut v = [0.0; N];
-        for j in 0..self.lanes() {
-            v[j] = e.scale * e.shape.at_t(self.t[j]) * self.d65[j];
-        }
-        SampledSpectrum(v)
+        self.per_lane(|j| e.scale * e.shape.at_t(self.t[j]) * self.d65[j])
     }
     fn ior(&mut self, m: &Medium) -> f64 {
         match &m.glass {

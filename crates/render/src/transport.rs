@@ -38,8 +38,8 @@ impl Channels for DVec3 {
 }
 
 impl Channels for SampledSpectrum {
-    const ZERO: Self = SampledSpectrum([0.0; 4]);
-    const ONE: Self = SampledSpectrum([1.0; 4]);
+    const ZERO: Self = SampledSpectrum([0.0; N]);
+    const ONE: Self = SampledSpectrum([1.0; N]);
     fn max_channel(&self) -> f64 {
         self.max_element()
     }

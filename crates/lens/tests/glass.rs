@@ -311,3 +311,27 @@ mod prescriptions {
         }
     }
 }
+
+/// A prepared index is the glass's index to the bit, for every shipped
+/// glass, inside its range and (as an error) outside it.
+#[test]
+fn prepared_indices_are_the_glass_indices_to_the_bit() {
+    let cats = lens::glass::Catalogs::shipped();
+    let mut n = 0;
+    for name in cats.names() {
+        let g = cats.find(&name).unwrap();
+        let p = g.prepared();
+        let [lo, hi] = g.range_nm;
+        for k in 0..=8 {
+            let nm = lo + (hi - lo) * k as f64 / 8.0;
+            match (g.index(nm), p.index(nm)) {
+                (Ok(a), Ok(b)) => assert_eq!(a.to_bits(), b.to_bits(), "{name} at {nm} nm"),
+                (Err(_), Err(_)) => {}
+                (a, b) => panic!("{name} at {nm} nm: {a:?} vs {b:?}"),
+            }
+            n += 1;
+        }
+        assert!(p.index(hi * 2.0 + 1.0).is_err() && p.index(f64::NAN).is_err(), "{name}");
+    }
+    assert!(n > 10_000, "{n}");
+}

@@ -7,7 +7,7 @@ use crate::spectrum::cie::{self, MAX_NM, MIN_NM};
 use crate::spectrum::sampled::N;
 use crate::spectrum::{Colour, Radiance, SampledSpectrum, SampledWavelengths};
 use glam::DVec3;
-use lens::glass::Glass;
+use lens::glass::PreparedIndex;
 use std::ops::{Add, AddAssign, Div, Mul, MulAssign};
 use std::sync::Arc;
 
@@ -52,7 +52,7 @@ pub struct Medium {
     /// the d line (587.56 nm).
     pub ior: f64,
     /// The glass, when its index depends on wavelength.
-    pub glass: Option<Arc<Glass>>,
+    pub glass: Option<Arc<PreparedIndex>>,
 }
 
 /// How a path's channels are evaluated.

@@ -88,7 +88,7 @@ impl SpectralLane {
 #[derive(Debug, Clone, PartialEq)]
 pub struct ThinGlass {
     /// The glass.
-    pub glass: std::sync::Arc<lens::glass::Glass>,
+    pub glass: std::sync::Arc<lens::glass::PreparedIndex>,
     /// Its index at the d line.
     pub nd: f64,
     /// Focal length at the d line, m.
@@ -179,7 +179,7 @@ impl Camera {
     pub fn glasses(&self) -> Vec<&lens::glass::Glass> {
         match self {
             Camera::Pinhole { .. } => vec![],
-            Camera::ThinLens { glass, .. } => glass.iter().map(|g| &*g.glass).collect(),
+            Camera::ThinLens { glass, .. } => glass.iter().map(|g| g.glass.glass()).collect(),
             Camera::Real(c) => c.prescription().glasses().iter().collect(),
         }
     }
@@ -236,25 +236,26 @@ impl Camera {
             Camera::Real(c) if c.prescription().is_dispersive() => c.rays_spectral(samples, wavelengths, out),
             Camera::ThinLens { frame, tan_half, aspect, radius, aperture, focus_shift, glass: Some(g), .. } => {
                 out.clear();
-                out.extend(samples.iter().zip(wavelengths).map(|(s, wl)| {
-                    let (ray, _) = self.ray_at(s.film.0, s.film.1, s.aperture, Some(wl.hero()))?;
-                    let (ax, ay) = aperture.sample(s.aperture);
+                for (s, wl) in samples.iter().zip(wavelengths) {
+                    let d = pinhole_dir(frame, *tan_half, *aspect, s.film.0, s.film.1);
+                    let chief = d / d.dot(frame.forward);
+                    let (ax, ay) = if *radius > 0.0 { aperture.sample(s.aperture) } else { (0.0, 0.0) };
                     let shift = 1.0 - focus_shift * (ax * ax + ay * ay).sqrt();
                     let offset = frame.right * (ax * radius) + frame.up * (ay * radius);
-                    // the central ray at each wavelength: the scene ray's
-                    // slope plus the bend the lens gives it there
-                    let lanes = wl.nm.map(|nm| {
-                        let d = ray.dir / ray.dir.dot(frame.forward) + offset * (g.inverse_focus(nm) / shift);
-                        let film = (
-                            0.5 + 0.5 * d.dot(frame.right) / (tan_half * aspect),
-                            0.5 - 0.5 * d.dot(frame.up) / tan_half,
+                    // the hero's ray as `ray_at` makes it; then the central
+                    // ray of each wavelength that leaves along it: its slope
+                    // plus the bend the lens gives it there
+                    let slope = chief - offset * (g.inverse_focus(wl.nm[0]) / shift);
+                    let mut lanes = [SpectralLane { film: s.film, transmission: 1.0, density: 1.0 }; N];
+                    for (lane, nm) in lanes.iter_mut().zip(&wl.nm).skip(1) {
+                        let c = slope + offset * (g.inverse_focus(*nm) / shift);
+                        lane.film = (
+                            0.5 + 0.5 * c.dot(frame.right) / (tan_half * aspect),
+                            0.5 - 0.5 * c.dot(frame.up) / tan_half,
                         );
-                        SpectralLane { film, transmission: 1.0, density: 1.0 }
-                    });
-                    let mut lanes = lanes;
-                    lanes[0].film = s.film;
-                    Some((ray, lanes))
-                }));
+                    }
+                    out.push(Some((Ray { origin: frame.origin + offset, dir: slope.normalize() }, lanes)));
+                }
             }
             _ => {
                 let mut plain = Vec::with_capacity(samples.len());

@@ -452,10 +452,10 @@ impl Scene {
 }
 
 /// A catalogue glass by `VENDOR:NAME`, with its index at the d line.
-fn find_glass(name: &str) -> Result<(Arc<lens::glass::Glass>, f64), String> {
+fn find_glass(name: &str) -> Result<(Arc<lens::glass::PreparedIndex>, f64), String> {
     let g = lens::glass::Catalogs::shipped().find(name).map_err(|e| e.to_string())?;
     let nd = g.nd().map_err(|e| e.to_string())?;
-    Ok((Arc::new(g.clone()), nd))
+    Ok((Arc::new(g.prepared()), nd))
 }
 
 /// A light's radiance from its spec; errors say what to change.
@@ -498,7 +498,7 @@ fn colour_mode(
     point_lights: &[(DVec3, Radiance)],
 ) -> Result<ColourMode, (String, String)> {
     let material_glasses = materials.iter().filter_map(|m| match m {
-        Material::Dielectric { medium: Medium { glass: Some(g), .. } } => Some(&**g),
+        Material::Dielectric { medium: Medium { glass: Some(g), .. } } => Some(g.glass()),
         _ => None,
     });
     let glasses: Vec<&lens::glass::Glass> = camera.glasses().into_iter().chain(material_glasses).collect();

@@ -33,6 +33,29 @@ def write(name, scene):
         f.write("\n")
 
 
+def lens_scene(name, lens, focus, sensor, size, spp, radiance, shapes, f_number=None, background=0.002):
+    """A scene of white lamps (`shapes`, material "lamp") seen through the
+    real lens `lens` focused at `focus` m, on a dark background."""
+    write(
+        name,
+        {
+            "camera": {
+                "type": "lens",
+                "prescription": "../" + lens,
+                "f_number": f_number,
+                "focus_distance": focus,
+                "sensor_mm": sensor,
+                "position": [0, 0, 0],
+                "look_at": [0, 0, 1],
+            },
+            "film": {"width": size[0], "height": size[1], "spp": spp, "exposure": 1.0},
+            "background": {"type": "constant", "radiance": [background] * 3},
+            "materials": {"lamp": {"type": "emissive", "radiance": [radiance] * 3}},
+            "shapes": shapes,
+        },
+    )
+
+
 def lamp_rows(f_mm, sensor, focus, rows, radius_px, px_mm, radiance):
     """Lamps on rows of the frame: each row (v, distance m, count) puts
     `count` lamps across the frame at film height v (fraction of the
@@ -59,24 +82,7 @@ def chart(lens, f_mm, f_number, name):
     focus = 2.0
     rows = [(0.55, 4.0, 5), (0.0, focus, 5), (-0.55, 1.25, 5)]
     shapes = lamp_rows(f_mm, sensor, focus, rows, 9.0, px, None)
-    write(
-        name,
-        {
-            "camera": {
-                "type": "lens",
-                "prescription": "../" + lens,
-                "f_number": f_number,
-                "focus_distance": focus,
-                "sensor_mm": sensor,
-                "position": [0, 0, 0],
-                "look_at": [0, 0, 1],
-            },
-            "film": {"width": width, "height": height, "spp": 256, "exposure": 1.0},
-            "background": {"type": "constant", "radiance": [0.002, 0.002, 0.002]},
-            "materials": {"lamp": {"type": "emissive", "radiance": [9, 9, 9]}},
-            "shapes": shapes,
-        },
-    )
+    lens_scene(name, lens, focus, sensor, (width, height), 256, 9, shapes, f_number)
 
 
 def wu_field():
@@ -93,45 +99,15 @@ def wu_field():
             x = d * u * sensor[0] / 2 / f_mm
             y = d * v * sensor[1] / 2 / f_mm
             shapes.append({"type": "sphere", "center": [x, y, d], "radius": d * 4.0 * px / f_mm, "material": "lamp"})
-    write(
-        "wu-aberrations-double-gauss.json",
-        {
-            "camera": {
-                "type": "lens",
-                "prescription": "../double-gauss-50mm.json",
-                "focus_distance": focus,
-                "sensor_mm": sensor,
-                "position": [0, 0, 0],
-                "look_at": [0, 0, 1],
-            },
-            "film": {"width": width, "height": height, "spp": 256, "exposure": 1.0},
-            "background": {"type": "constant", "radiance": [0.002, 0.002, 0.002]},
-            "materials": {"lamp": {"type": "emissive", "radiance": [16, 16, 16]}},
-            "shapes": shapes,
-        },
-    )
+    lens_scene("wu-aberrations-double-gauss.json", "double-gauss-50mm.json", focus, sensor, (width, height), 256, 16,
+               shapes)
 
 
 def wu_spherical():
     for side, dist in [("front", 0.5), ("behind", 3.0)]:
-        write(
-            f"wu-spherical-{side}.json",
-            {
-                "camera": {
-                    "type": "lens",
-                    "prescription": "../plano-convex-n-bk7-50mm.json",
-                    "f_number": 4.0,
-                    "focus_distance": 1.0,
-                    "sensor_mm": [1.8, 1.8],
-                    "position": [0, 0, 0],
-                    "look_at": [0, 0, 1],
-                },
-                "film": {"width": 480, "height": 480, "spp": 256, "exposure": 1.0},
-                "background": {"type": "constant", "radiance": [0.0, 0.0, 0.0]},
-                "materials": {"lamp": {"type": "emissive", "radiance": [20, 20, 20]}},
-                "shapes": [{"type": "sphere", "center": [0, 0, dist], "radius": 0.0012 * dist, "material": "lamp"}],
-            },
-        )
+        lamp = {"type": "sphere", "center": [0, 0, dist], "radius": 0.0012 * dist, "material": "lamp"}
+        lens_scene(f"wu-spherical-{side}.json", "plano-convex-n-bk7-50mm.json", 1.0, [1.8, 1.8], (480, 480), 256, 20,
+                   [lamp], f_number=4.0, background=0.0)
 
 
 def lateral_edge():

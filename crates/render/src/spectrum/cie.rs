@@ -33,13 +33,7 @@ pub fn cmf(nm: f64) -> DVec3 {
 /// The CIE D65 illuminant's relative power at `nm` (100 at 560 nm; linear
 /// between the 5 nm table's entries; zero outside 360-830 nm).
 pub fn d65(nm: f64) -> f64 {
-    if !(FIRST_NM..=LAST_NM).contains(&nm) {
-        return 0.0;
-    }
-    let x = (nm - FIRST_NM) / 5.0;
-    let i = (x as usize).min(D65.len() - 2);
-    let f = x - i as f64;
-    D65[i] + (D65[i + 1] - D65[i]) * f
+    d65_normalised_with(&D65, nm)
 }
 
 /// The CIE standard illuminant A at `nm`, relative power (100 at 560 nm):
@@ -128,8 +122,9 @@ pub fn d65_normalised_table() -> &'static [f64; 95] {
     T.get_or_init(|| D65.map(|v| v / constants().d65_luminance))
 }
 
-/// [`d65_normalised`] from its table (fetched once for several
-/// wavelengths).
+/// A 5 nm D65 table (as given, or normalised: [`d65_normalised_table`])
+/// at `nm`, linear between entries, zero outside 360-830 nm: the table is
+/// fetched once for several wavelengths.
 #[inline]
 pub fn d65_normalised_with(table: &[f64; 95], nm: f64) -> f64 {
     if !(FIRST_NM..=LAST_NM).contains(&nm) {

@@ -24,6 +24,25 @@ pub struct LensArgs {
 }
 
 impl LensArgs {
+    /// The files this reads: the prescription and any user catalogues.
+    pub fn inputs(&self) -> Vec<PathBuf> {
+        std::iter::once(self.file.clone()).chain(self.catalogs.glass_catalogs.iter().cloned()).collect()
+    }
+
+    /// Checks an output file of this command (`flag` names it) against the
+    /// inputs before any work: see [`crate::outputs::check`].
+    pub fn check_output(&self, path: Option<&std::path::Path>, flag: &str, extensions: &[&str]) -> Result<(), String> {
+        match path {
+            Some(path) => crate::outputs::check(&[crate::outputs::Output { path, flag, extensions }], &self.inputs()),
+            None => Ok(()),
+        }
+    }
+
+    /// Checks a `--plot` file: .svg or .png, not an input.
+    pub fn check_plot(&self, path: Option<&std::path::Path>) -> Result<(), String> {
+        self.check_output(path, "--plot", &["svg", "png"])
+    }
+
     /// Loads the prescription (at its primary wavelength) and resizes its
     /// stop if asked.
     pub fn load(&self) -> Result<lens::Prescription, Box<dyn std::error::Error>> {

@@ -31,6 +31,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
+    a.lens.check_plot(a.plot.plot.as_deref())?;
     let p = a.lens.load()?;
     let max_field = match a.max_field_deg {
         Some(m) => m,

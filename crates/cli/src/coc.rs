@@ -28,6 +28,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
+    a.lens.check_plot(a.plot.plot.as_deref())?;
     let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     if a.distances.is_empty() {
         return Err("--distances: give at least one object distance in mm (`inf` for infinity)".into());

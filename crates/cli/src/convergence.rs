@@ -48,6 +48,7 @@ fn table(out: &mut String, c: &Convergence) {
 }
 
 pub fn run(a: Args) -> CmdResult {
+    a.lens.check_output(a.output.as_deref(), "-o", &["md"])?;
     let p = a.lens.load()?;
     let spot = spot_rms(&p, Field::Angle(a.field_deg))?;
     let coc = coc_rms(&p, a.focus_mm, a.object_mm)?;
@@ -56,7 +57,8 @@ pub fn run(a: Args) -> CmdResult {
     table(&mut out, &spot);
     table(&mut out, &coc);
     match a.output {
-        Some(path) => std::fs::write(&path, out).map_err(|e| format!("{}: {e}", path.display()))?,
+        Some(path) => lens::io::files::write_bytes_atomic(&path, out.as_bytes())
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
         None => out!("{out}"),
     }
     Ok(ExitCode::SUCCESS)

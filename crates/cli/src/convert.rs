@@ -15,10 +15,12 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
+    a.lens.check_output(a.output.as_deref(), "-o", &["json"])?;
     let p = a.lens.load()?;
     let text = p.to_spec().to_json_string() + "\n";
     match a.output {
-        Some(path) => std::fs::write(&path, text).map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
+        Some(path) => lens::io::files::write_bytes_atomic(&path, text.as_bytes())
+            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
         None => out!("{text}"),
     }
     Ok(ExitCode::SUCCESS)

@@ -29,6 +29,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
+    a.lens.check_plot(a.plot.plot.as_deref())?;
     let (p, traced) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     if a.points < 2 {
         return Err(format!("--points {}: a fan needs at least 2 points", a.points).into());

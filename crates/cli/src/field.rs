@@ -27,6 +27,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
+    a.lens.check_plot(a.plot.plot.as_deref())?;
     let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     let c = field_curves(&p, a.max_field_deg, a.fields, a.aim.aim())?;
     if let Some(out) = &a.plot.plot {

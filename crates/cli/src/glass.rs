@@ -28,6 +28,10 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
+    if let Some(path) = &a.plot.plot {
+        let out = crate::outputs::Output { path, flag: "--plot", extensions: &["svg", "png"] };
+        crate::outputs::check(&[out], &a.catalogs.glass_catalogs)?;
+    }
     let cats = a.catalogs.load()?;
     if a.map {
         let Some(out) = &a.plot.plot else {

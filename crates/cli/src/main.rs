@@ -31,6 +31,7 @@ mod focus;
 mod glass;
 mod info;
 mod layout;
+mod outputs;
 mod render;
 mod spot;
 mod validate;

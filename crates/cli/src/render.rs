@@ -1,5 +1,6 @@
 //! `lens render`: a scene through its camera, to PNG and/or EXR.
 
+use crate::outputs::{self, Output};
 use crate::CmdResult;
 use ::render::scene::format::SpectralSpec;
 use ::render::scene::ColourMode;
@@ -51,8 +52,44 @@ enum SpectralFlag {
     Off,
 }
 
+/// The most samples per pixel a render takes (a report renders up to four
+/// times as many for its reference).
+const MAX_SPP: u32 = 1 << 20;
+/// The most worker threads.
+const MAX_THREADS: usize = 256;
+
+/// The report's plot files beside `md`.
+fn report_plots(md: &std::path::Path) -> [std::path::PathBuf; 2] {
+    let stem = md.file_stem().and_then(|s| s.to_str()).unwrap_or("report");
+    ["svg", "png"].map(|ext| md.with_file_name(format!("{stem}-plot.{ext}")))
+}
+
 pub fn run(a: Args) -> CmdResult {
     let mut scene = Scene::load(&a.scene)?;
+    // every output checked before any work: formats, folders, and none of
+    // them an input or another output
+    let plots = a.report.as_deref().map(report_plots);
+    let mut outs = vec![Output { path: &a.output, flag: "-o", extensions: &["png", "exr"] }];
+    if let Some(exr) = &a.exr {
+        outs.push(Output { path: exr, flag: "--exr", extensions: &["exr"] });
+    }
+    if let (Some(md), Some(plots)) = (&a.report, &plots) {
+        outs.push(Output { path: md, flag: "--report", extensions: &["md"] });
+        for p in plots {
+            outs.push(Output { path: p, flag: "--report (its plot)", extensions: &[] });
+        }
+    }
+    outputs::check(&outs, &scene.inputs)?;
+    if let Some(spp) = a.spp {
+        if spp > MAX_SPP {
+            return Err(format!("--spp {spp}: at most {MAX_SPP} samples per pixel").into());
+        }
+    }
+    if let Some(t) = a.threads {
+        if t > MAX_THREADS {
+            return Err(format!("--threads {t}: at most {MAX_THREADS}").into());
+        }
+    }
     if a.spectral.is_some() || a.wavelength_nm.is_some() {
         let spectral = match a.spectral {
             Some(SpectralFlag::On) => SpectralSpec::On,
@@ -142,7 +179,8 @@ fn report(a: &Args, scene: &Scene, spp: u32, pool: &rayon::ThreadPool, md: &std:
         );
     }
     let _ = writeln!(out, "\nRMSE x sqrt(time) is the cost of a given error: lower is cheaper; it is constant where the error falls as 1/sqrt(samples).");
-    std::fs::write(md, &out).map_err(|e| format!("{}: {e}", md.display()))?;
+    lens::io::files::write_bytes_atomic(md, out.as_bytes())
+        .map_err(|e| format!("{}: cannot write: {e}", md.display()))?;
     let pts: Vec<(f64, f64)> =
         r.rows.iter().map(|x| (x.seconds.max(1e-6).log10(), x.rmse.max(1e-12).log10())).collect();
     let panel = plot::figure::Panel {
@@ -159,9 +197,8 @@ fn report(a: &Args, scene: &Scene, spp: u32, pool: &rayon::ThreadPool, md: &std:
         panel_size: (560.0, 380.0),
     }
     .to_svg();
-    let stem = md.file_stem().and_then(|s| s.to_str()).unwrap_or("report");
-    for ext in ["svg", "png"] {
-        plot::save(&svg, &md.with_file_name(format!("{stem}-plot.{ext}")))?;
+    for p in report_plots(md) {
+        plot::save(&svg, &p)?;
     }
     eprint!("{out}");
     Ok(ExitCode::SUCCESS)

@@ -47,6 +47,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> CmdResult {
+    args.lens.check_plot(args.plot.plot.as_deref())?;
     let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
     let pattern = match args.pattern {
         PatternArg::Gauss => Pattern::Gauss,

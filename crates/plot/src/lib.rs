@@ -43,5 +43,6 @@ pub fn save(svg: &str, path: &Path) -> Result<(), PlotError> {
         Some("png") => raster::svg_to_png(svg)?,
         _ => return Err(PlotError::Extension(path.display().to_string())),
     };
-    std::fs::write(path, bytes).map_err(|source| PlotError::Io { path: path.display().to_string(), source })
+    lens::io::files::write_bytes_atomic(path, &bytes)
+        .map_err(|source| PlotError::Io { path: path.display().to_string(), source })
 }

@@ -61,8 +61,12 @@ impl Image {
                         buf.push((srgb(c * exposure) * 255.0).round() as u8);
                     }
                 }
-                image::save_buffer(path, &buf, self.width as u32, self.height as u32, image::ColorType::Rgb8)
-                    .map_err(|e| err(e.to_string()))
+                let (w, h) = (self.width as u32, self.height as u32);
+                lens::io::files::write_atomic(path, |out| {
+                    image::write_buffer_with_format(out, &buf, w, h, image::ColorType::Rgb8, image::ImageFormat::Png)
+                        .map_err(std::io::Error::other)
+                })
+                .map_err(|e| err(e.to_string()))
             }
             #[cfg(feature = "exr")]
             Some("exr") => {
@@ -70,7 +74,13 @@ impl Image {
                     let p = self.pixels[y * self.width + x];
                     (p.x as f32, p.y as f32, p.z as f32)
                 };
-                exr::prelude::write_rgb_file(path, self.width, self.height, px).map_err(|e| err(e.to_string()))
+                use exr::prelude::*;
+                let image = Image::from_channels(
+                    (self.width, self.height),
+                    SpecificChannels::rgb(|p: Vec2<usize>| px(p.x(), p.y())),
+                );
+                lens::io::files::write_atomic(path, |out| image.write().to_buffered(out).map_err(std::io::Error::other))
+                    .map_err(|e| err(e.to_string()))
             }
             _ => Err(ImageError::Format(path.display().to_string())),
         }

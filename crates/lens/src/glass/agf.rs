@@ -42,10 +42,8 @@ pub fn decode(bytes: &[u8]) -> String {
 /// Reads an AGF file.
 pub fn load(path: &Path) -> Result<Catalog, GlassError> {
     let origin = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| GlassError::Parse {
-        origin: origin.clone(),
-        line: 0,
-        message: format!("cannot read: {e}"),
+    let bytes = crate::io::files::read_bounded(path, crate::io::files::MAX_TEXT_BYTES).map_err(|e| {
+        GlassError::Parse { origin: origin.clone(), line: 0, message: format!("cannot read: {}", e.reason()) }
     })?;
     let name = path.file_stem().and_then(|s| s.to_str()).unwrap_or("USER").to_uppercase();
     parse(&decode(&bytes), &name, &origin)

@@ -3,6 +3,7 @@
 //! is in [`crate::model`].
 
 pub mod dat;
+pub mod files;
 pub mod json;
 
 use crate::error::LoadError;
@@ -13,7 +14,12 @@ use std::path::Path;
 /// Reads a prescription file as written, without validating it: pbrt-v4
 /// `.dat` when the extension is `dat`, JSON otherwise.
 pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
-    let bytes = std::fs::read(path).map_err(|source| LoadError::Io { path: path.to_path_buf(), source })?;
+    let bytes = files::read_bounded(path, files::MAX_TEXT_BYTES).map_err(|e| match e {
+        files::ReadError::Io { path, source } => LoadError::Io { path, source },
+        e @ files::ReadError::TooLarge { .. } => {
+            LoadError::Io { path: path.to_path_buf(), source: std::io::Error::other(e.reason()) }
+        }
+    })?;
     let origin = path.display().to_string();
     let text = String::from_utf8(bytes).map_err(|e| {
         let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];

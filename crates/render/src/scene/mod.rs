@@ -15,6 +15,12 @@ use glam::DVec3;
 use std::path::Path;
 use std::sync::Arc;
 
+/// The most pixels a film may have: 2^25 (8192 x 4096; the image and its
+/// rows take about 1.6 GB).
+pub const MAX_PIXELS: u64 = 1 << 25;
+/// The most samples per pixel.
+pub const MAX_SPP: u32 = 1 << 20;
+
 /// Why a scene could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
@@ -175,6 +181,10 @@ pub struct Scene {
     pub film: FilmSpec,
     /// RGB, spectral or one wavelength.
     pub colour: ColourMode,
+    /// Every file the scene was built from: the scene file (when loaded
+    /// from one), the prescription, aperture masks, the environment image,
+    /// meshes. A command must not write over any of them.
+    pub inputs: Vec<std::path::PathBuf>,
     bvh: Option<Bvh>,
     /// Primitives tested one by one (planes, or all when there is no BVH).
     linear: Vec<usize>,
@@ -196,11 +206,14 @@ impl Scene {
             column: e.column(),
             message: e.to_string(),
         })?;
-        Scene::build(file, path.parent().unwrap_or(Path::new(".")), &name)
+        let mut scene = Scene::build(file, path.parent().unwrap_or(Path::new(".")), &name)?;
+        scene.inputs.insert(0, path.to_path_buf());
+        Ok(scene)
     }
 
     /// Builds a scene from its parsed file; `dir` resolves relative paths.
     pub fn build(file: SceneFile, dir: &Path, name: &str) -> Result<Scene, SceneError> {
+        let inputs = referenced_files(&file, dir);
         let bad = |field: String, message: String| SceneError::Invalid {
             path: name.to_string(),
             field,
@@ -221,8 +234,17 @@ impl Scene {
                 format!("{} x {} pixels: width and height must be 1..=16384", f.width, f.height),
             ));
         }
-        if f.spp == 0 {
-            return Err(bad("film.spp".into(), "samples per pixel must be at least 1".into()));
+        if (f.width as u64) * (f.height as u64) > MAX_PIXELS {
+            return Err(bad(
+                "film".into(),
+                format!(
+                    "{} x {} pixels: at most {MAX_PIXELS} pixels (8192 x 4096) are rendered, so the image fits in memory",
+                    f.width, f.height
+                ),
+            ));
+        }
+        if f.spp == 0 || f.spp > MAX_SPP {
+            return Err(bad("film.spp".into(), format!("{}: samples per pixel must be 1..={MAX_SPP}", f.spp)));
         }
         if !(f.exposure.is_finite() && f.exposure > 0.0) {
             return Err(bad("film.exposure".into(), "must be a positive number".into()));
@@ -405,6 +427,7 @@ impl Scene {
             camera,
             film: file.film,
             colour,
+            inputs,
             bvh,
             linear,
         })
@@ -449,6 +472,31 @@ impl Scene {
         let r = Ray { origin: a, dir: d / len };
         self.intersect(&r, crate::geometry::EPS * (1.0 + a.abs().max_element()), len * (1.0 - 1e-7)).is_none()
     }
+}
+
+/// The files a scene file names, resolved against `dir`.
+fn referenced_files(file: &SceneFile, dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut v = Vec::new();
+    let shape = match &file.camera {
+        CameraSpec::Lens { prescription, aperture_shape, .. } => {
+            v.push(dir.join(prescription));
+            Some(aperture_shape)
+        }
+        CameraSpec::ThinLens { aperture_shape, .. } => Some(aperture_shape),
+        CameraSpec::Pinhole { .. } => None,
+    };
+    if let Some(ApertureSpec::Mask { image }) = shape {
+        v.push(dir.join(image));
+    }
+    if let BackgroundSpec::Environment { exr, .. } = &file.background {
+        v.push(dir.join(exr));
+    }
+    for s in &file.shapes {
+        if let ShapeSpec::Mesh { obj, .. } = s {
+            v.push(dir.join(obj));
+        }
+    }
+    v
 }
 
 /// A catalogue glass by `VENDOR:NAME`, with its index at the d line.

@@ -4,6 +4,10 @@
 use glam::DVec3;
 use std::path::Path;
 
+/// The most pixels an image read from a file may have: 2^25 (8192 x
+/// 4096), 800 MB as linear RGB.
+pub const MAX_READ_PIXELS: u64 = 1 << 25;
+
 /// A linear-RGB image, row by row from the top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Image {
@@ -21,6 +25,14 @@ pub enum ImageError {
     /// Unknown extension or a format compiled out.
     #[error("{0}: choose an output ending in .png or .exr (and build with that feature)")]
     Format(String),
+    /// The file could not be read or decoded.
+    #[error("{path}: cannot read: {message}")]
+    Read {
+        /// The file.
+        path: String,
+        /// The cause.
+        message: String,
+    },
     /// The encoder failed.
     #[error("{path}: {message}")]
     Write {
@@ -86,11 +98,22 @@ impl Image {
         }
     }
 
-    /// Reads a linear RGB OpenEXR file.
+    /// Reads a linear RGB OpenEXR file of at most [`MAX_READ_PIXELS`]
+    /// pixels (its header is read first: a small file that declares a huge
+    /// image is refused before anything is allocated).
     #[cfg(feature = "exr")]
     pub fn load_exr(path: &Path) -> Result<Image, ImageError> {
         use exr::prelude::read_first_rgba_layer_from_file;
-        let err = |m: String| ImageError::Write { path: path.display().to_string(), message: m };
+        let err = |m: String| ImageError::Read { path: path.display().to_string(), message: m };
+        let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| err(e.to_string()))?;
+        for h in &meta.headers {
+            let (w, hgt) = (h.layer_size.width(), h.layer_size.height());
+            if (w as u64).saturating_mul(hgt as u64) > MAX_READ_PIXELS {
+                return Err(err(format!(
+                    "{w} x {hgt} pixels: at most {MAX_READ_PIXELS} (8192 x 4096) are read; scale the image down"
+                )));
+            }
+        }
         let img = read_first_rgba_layer_from_file(
             path,
             |res, _| Image {

@@ -55,5 +55,11 @@ pub fn parse_obj(text: &str) -> Result<Vec<[DVec3; 3]>, MeshError> {
             _ => {}
         }
     }
+    if tris.is_empty() {
+        return Err(MeshError {
+            line: text.lines().count().max(1),
+            message: "the file has no faces (f lines): it draws nothing".into(),
+        });
+    }
     Ok(tris)
 }

@@ -44,7 +44,7 @@ impl Catalog {
     /// errors.
     pub fn from_json(text: &str, origin: &str) -> Result<Catalog, GlassError> {
         let err = |line: usize, message: String| GlassError::Parse { origin: origin.to_string(), line, message };
-        let file: CatalogFile = serde_json::from_str(text).map_err(|e| err(e.line(), e.to_string()))?;
+        let file: CatalogFile = serde_json::from_str(text).map_err(|e| err(e.line(), crate::io::json::message(&e)))?;
         let mut glasses = Vec::with_capacity(file.glasses.len());
         for g in file.glasses {
             let dispersion = match g.formula.split_whitespace().collect::<Vec<_>>().as_slice() {

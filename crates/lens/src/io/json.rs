@@ -5,16 +5,36 @@
 use crate::error::LoadError;
 use crate::model::{Prescription, PrescriptionSpec};
 
+/// Parses one JSON object of type `T` from `text`, as files are written:
+/// a leading UTF-8 byte-order mark is skipped, and a file that is not an
+/// object (`[...]`, a number) is refused saying what it should hold
+/// (`what`). The error's line and column are 1-based and its message does
+/// not repeat them.
+pub fn parse_object<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, (usize, usize, String)> {
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    let start = text.trim_start();
+    if !start.is_empty() && !start.starts_with('{') {
+        let skipped = &text[..text.len() - start.len()];
+        let line = 1 + skipped.matches('\n').count();
+        let column = 1 + skipped.rsplit('\n').next().map_or(0, |l| l.chars().count());
+        return Err((line, column, format!("the file must hold one JSON object {{...}}: {what}")));
+    }
+    serde_json::from_str(text).map_err(|e| (e.line(), e.column(), message(&e)))
+}
+
+/// serde's message without the " at line L column C" it appends.
+pub fn message(e: &serde_json::Error) -> String {
+    let m = e.to_string();
+    let tail = format!(" at line {} column {}", e.line(), e.column());
+    m.strip_suffix(&tail).map(str::to_string).unwrap_or(m)
+}
+
 impl PrescriptionSpec {
     /// Parses JSON text. `origin` names the source in errors (a file name).
     /// Errors carry serde's 1-based line and column.
     pub fn from_json_str(text: &str, origin: &str) -> Result<Self, LoadError> {
-        serde_json::from_str(text).map_err(|e| LoadError::Json {
-            origin: origin.to_string(),
-            line: e.line(),
-            column: e.column(),
-            message: e.to_string(),
-        })
+        parse_object(text, "a prescription (docs/prescription-format.md)")
+            .map_err(|(line, column, message)| LoadError::Json { origin: origin.to_string(), line, column, message })
     }
 
     /// The JSON text of this prescription (pretty-printed).

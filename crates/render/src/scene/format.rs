@@ -20,8 +20,9 @@ pub struct SceneFile {
     /// What rays that leave the scene see.
     #[serde(default)]
     pub background: BackgroundSpec,
-    /// Named materials.
-    #[serde(default)]
+    /// Named materials (a name given twice is an error, not the last one
+    /// silently kept).
+    #[serde(default, deserialize_with = "unique_keys")]
     pub materials: BTreeMap<String, MaterialSpec>,
     /// The shapes.
     #[serde(default)]
@@ -29,6 +30,34 @@ pub struct SceneFile {
     /// Point lights.
     #[serde(default)]
     pub lights: Vec<LightSpec>,
+}
+
+/// A JSON object into a map, refusing a key given twice.
+fn unique_keys<'de, D, V>(d: D) -> Result<BTreeMap<String, V>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    V: Deserialize<'de>,
+{
+    struct Unique<V>(std::marker::PhantomData<V>);
+    impl<'de, V: Deserialize<'de>> serde::de::Visitor<'de> for Unique<V> {
+        type Value = BTreeMap<String, V>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("an object of named materials")
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+            let mut out = BTreeMap::new();
+            while let Some((k, v)) = map.next_entry::<String, V>()? {
+                if out.contains_key(&k) {
+                    return Err(serde::de::Error::custom(format!(
+                        "the material \"{k}\" is defined twice: give each material its own name"
+                    )));
+                }
+                out.insert(k, v);
+            }
+            Ok(out)
+        }
+    }
+    d.deserialize_map(Unique(std::marker::PhantomData))
 }
 
 /// Where the camera is and how it looks.

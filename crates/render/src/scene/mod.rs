@@ -198,14 +198,16 @@ impl Scene {
     /// Loads and builds a scene file. Paths inside it are relative to it.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let name = path.display().to_string();
-        let text =
-            std::fs::read_to_string(path).map_err(|e| SceneError::Io { path: name.clone(), message: e.to_string() })?;
-        let file: SceneFile = serde_json::from_str(&text).map_err(|e| SceneError::Json {
-            path: name.clone(),
-            line: e.line(),
-            column: e.column(),
-            message: e.to_string(),
-        })?;
+        let text = lens::io::files::read_bounded(path, lens::io::files::MAX_TEXT_BYTES)
+            .map_err(|e| SceneError::Io { path: name.clone(), message: e.reason() })
+            .and_then(|b| {
+                String::from_utf8(b).map_err(|_| SceneError::Io {
+                    path: name.clone(),
+                    message: "not UTF-8 text: is it a scene file?".into(),
+                })
+            })?;
+        let file: SceneFile = lens::io::json::parse_object(&text, "a scene (docs/scene-format.md)")
+            .map_err(|(line, column, message)| SceneError::Json { path: name.clone(), line, column, message })?;
         let mut scene = Scene::build(file, path.parent().unwrap_or(Path::new(".")), &name)?;
         scene.inputs.insert(0, path.to_path_buf());
         Ok(scene)
@@ -351,7 +353,9 @@ impl Scene {
                 ShapeSpec::Mesh { obj, scale, translate, material: m } => {
                     let mi = material(i, m)?;
                     let p = dir.join(obj);
-                    let text = std::fs::read_to_string(&p)
+                    let text = lens::io::files::read_bounded(&p, lens::io::files::MAX_TEXT_BYTES)
+                        .map_err(|e| e.reason())
+                        .and_then(|b| String::from_utf8(b).map_err(|_| "not UTF-8 text".to_string()))
                         .map_err(|e| bad(field("obj"), format!("{}: cannot read: {e}", p.display())))?;
                     let tris = crate::mesh::parse_obj(&text).map_err(|source| SceneError::Invalid {
                         path: name.to_string(),

@@ -148,9 +148,32 @@ pub struct PlaneArgs {
 }
 
 impl PlaneArgs {
-    /// The image plane: paraxial unless a film distance is given.
-    pub fn plane(&self) -> ImagePlane {
-        self.film.map_or(ImagePlane::Paraxial, ImagePlane::Film)
+    /// The image plane: paraxial unless a film distance is given; a film
+    /// that is not behind the last vertex is refused (as `focus` refuses
+    /// it).
+    pub fn plane(&self) -> Result<ImagePlane, String> {
+        match self.film {
+            None => Ok(ImagePlane::Paraxial),
+            Some(d) if d.is_finite() && d > 0.0 => Ok(ImagePlane::Film(d)),
+            Some(d) if d.is_finite() => Err(format!(
+                "--film {}: the film would be inside the lens, {} mm in front of the last vertex; give a distance behind it (> 0 mm)",
+                lens::error::num(d),
+                lens::error::num(-d)
+            )),
+            Some(d) => Err(format!("--film {d}: give a finite distance in mm behind the last vertex")),
+        }
+    }
+}
+
+/// A list of field angles from the flag `flag`: at least one, each finite
+/// and within (-90, 90) degrees.
+pub fn check_fields(flag: &str, fields: &[f64]) -> Result<(), String> {
+    if fields.is_empty() {
+        return Err(format!("{flag}: give at least one field angle in degrees (e.g. 0,10,20)"));
+    }
+    match fields.iter().find(|f| !(f.is_finite() && f.abs() < 90.0)) {
+        Some(f) => Err(format!("{flag}: {f} is not a field angle: give angles above -90 and below 90 degrees")),
+        None => Ok(()),
     }
 }
 
@@ -183,9 +206,13 @@ pub struct FieldPlotArgs {
 }
 
 impl FieldPlotArgs {
-    /// The fields to plot: --plot-fields, or the analysed field alone.
-    pub fn fields(&self, field_deg: f64) -> std::vec::Vec<f64> {
-        self.plot_fields.clone().unwrap_or_else(|| vec![field_deg])
+    /// The fields to plot: --plot-fields (each checked), or the analysed
+    /// field alone.
+    pub fn fields(&self, field_deg: f64) -> Result<std::vec::Vec<f64>, String> {
+        match &self.plot_fields {
+            Some(f) => check_fields("--plot-fields", f).map(|_| f.clone()),
+            None => Ok(vec![field_deg]),
+        }
     }
 }
 

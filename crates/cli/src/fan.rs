@@ -30,6 +30,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> CmdResult {
     a.lens.check_plot(a.plot.plot.as_deref())?;
+    let plane = a.plane.plane()?;
     let (p, traced) = a.lens.load_at(a.wavelength.wavelength_nm)?;
     if a.points < 2 {
         return Err(format!("--points {}: a fan needs at least 2 points", a.points).into());
@@ -37,11 +38,11 @@ pub fn run(a: Args) -> CmdResult {
     let first = FirstOrder::of(&p)?;
     let fan_at = |deg: f64| -> Result<_, lens::OpticsError> {
         let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), a.aim.aim())?;
-        fan_traced(&p, &traced, &launcher, a.points, a.plane.plane())
+        fan_traced(&p, &traced, &launcher, a.points, plane)
     };
     let fan = fan_at(a.field.field_deg)?;
     if let Some(out) = &a.plot.plot {
-        let fields = a.plot.fields(a.field.field_deg);
+        let fields = a.plot.fields(a.field.field_deg)?;
         let fans = fields.into_iter().map(fan_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::fan::fan_chart(&fans, p.name()), out)?;
     }

@@ -27,6 +27,7 @@ pub struct Args {
 pub fn run(a: Args) -> CmdResult {
     a.lens.check_output(Some(&a.output), "-o", &["svg", "png"])?;
     let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
+    crate::args::check_fields("--fields", &a.fields)?;
     if a.rays > 1000 || a.fields.len() > 100 {
         return Err("--rays is at most 1000 per field and --fields at most 100 angles".into());
     }

@@ -48,6 +48,7 @@ pub struct Args {
 
 pub fn run(args: Args) -> CmdResult {
     args.lens.check_plot(args.plot.plot.as_deref())?;
+    let plane = args.plane.plane()?;
     let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
     let pattern = match args.pattern {
         PatternArg::Gauss => Pattern::Gauss,
@@ -58,12 +59,12 @@ pub fn run(args: Args) -> CmdResult {
     let first = FirstOrder::of(&p)?;
     let spot_at = |deg: f64| -> Result<_, lens::OpticsError> {
         let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), args.aim.aim())?;
-        spot_traced(&p, &traced, &launcher, pattern, args.n, args.plane.plane())
+        spot_traced(&p, &traced, &launcher, pattern, args.n, plane)
     };
     let field_deg = args.field.field_deg;
     let s = spot_at(field_deg)?;
     if let Some(out) = &args.plot.plot {
-        let fields = args.plot.fields(field_deg);
+        let fields = args.plot.fields(field_deg)?;
         let spots = fields.into_iter().map(spot_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::spot::spot_chart(&spots, p.name()), out)?;
     }

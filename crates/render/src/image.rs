@@ -64,6 +64,13 @@ impl Image {
     pub fn save(&self, path: &Path, exposure: f64) -> Result<(), ImageError> {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         let err = |m: String| ImageError::Write { path: path.display().to_string(), message: m };
+        // never write an inf or NaN (nor a value a 32-bit float cannot hold)
+        let bad = self.pixels.iter().filter(|p| !p.is_finite() || p.abs().max_element() > f32::MAX as f64).count();
+        if bad > 0 {
+            return Err(err(format!(
+                "{bad} pixels are not finite numbers a 32-bit float can hold; nothing written (lower the lights' radiance)"
+            )));
+        }
         match ext.as_deref() {
             #[cfg(feature = "png")]
             Some("png") => {

@@ -3,6 +3,7 @@
 use super::finding::{Finding, Severity};
 use super::spec::{PrescriptionSpec, SurfaceSpec};
 use super::surface::sag;
+use crate::error::num;
 
 struct Findings(Vec<Finding>);
 
@@ -124,6 +125,16 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
     out.0
 }
 
+/// The smallest |radius| a surface may have, mm (1/radius must stay a
+/// sensible number: a subnormal radius would make the curvature infinite).
+pub const MIN_RADIUS: f64 = 1e-6;
+/// The largest thickness or semi-diameter, mm (sums of many of them stay
+/// far from overflow).
+pub const MAX_LENGTH: f64 = 1e9;
+/// The largest constant refractive index (germanium, the highest optical
+/// material in common use, is about 4 in the infrared).
+pub const MAX_IOR: f64 = 10.0;
+
 fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
     if let Some(r) = s.radius {
         if !r.is_finite() {
@@ -134,10 +145,29 @@ fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
             );
         } else if r == 0.0 {
             out.error(n, "radius", "radius 0 is not a surface: omit \"radius\" (or use null) for a plane".into());
+        } else if r.abs() < MIN_RADIUS {
+            out.error(
+                n,
+                "radius",
+                format!(
+                    "radius {} mm is smaller than {MIN_RADIUS} mm: no lens surface is that curved (omit \"radius\" for a plane)",
+                    num(r)
+                ),
+            );
         }
     }
     if !s.thickness.is_finite() {
         out.error(n, "thickness", format!("thickness {} is not a finite number of mm", s.thickness));
+    } else if s.thickness > MAX_LENGTH {
+        out.error(
+            n,
+            "thickness",
+            format!(
+                "thickness {} mm is over {} mm (1000 km): give the axial distance in mm",
+                num(s.thickness),
+                num(MAX_LENGTH)
+            ),
+        );
     } else if s.thickness < 0.0 {
         out.error(
             n,
@@ -153,13 +183,28 @@ fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
         );
     }
     if let Some(super::spec::GlassSpec::Model { nd, vd }) = s.glass {
-        if !(nd.is_finite() && nd > 1.0 && vd.is_finite() && vd > 0.0) {
-            out.error(n, "glass", format!("model glass nd = {nd}, vd = {vd}: give nd > 1 and vd > 0"));
+        if !(nd.is_finite() && nd > 1.0 && nd <= MAX_IOR && vd.is_finite() && vd > 0.0) {
+            out.error(n, "glass", format!("model glass nd = {nd}, vd = {vd}: give 1 < nd <= 10 and vd > 0"));
         }
     }
     if let Some(ior) = s.ior {
         if !ior.is_finite() || ior < 1.0 {
             out.error(n, "ior", format!("ior {ior} is not a refractive index >= 1 (1.0 is air; omit it for air)"));
+        } else if ior > MAX_IOR {
+            out.error(
+                n,
+                "ior",
+                format!("ior {} is above {MAX_IOR}: no optical material has an index that high", num(ior)),
+            );
+        }
+    }
+    if let Some(sd) = s.semi_diameter {
+        if sd.is_finite() && sd > MAX_LENGTH {
+            out.error(
+                n,
+                "semi_diameter",
+                format!("semi_diameter {} mm is over {} mm (1000 km)", num(sd), num(MAX_LENGTH)),
+            );
         }
     }
     match s.semi_diameter {

@@ -8,11 +8,14 @@ use crate::camera::aperture::Aperture;
 use crate::camera::{real_lens::RealLensCamera, Camera, Frame, ThinGlass};
 use std::path::Path;
 
-/// The thin lens's distance to the plane in focus, from the distance `d`
-/// (m) measured from the film: with a focal length f, object and image
-/// distances s + s' = d and 1/s + 1/s' = 1/f give s = (d + sqrt(d (d - 4f))) / 2.
-fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<f64, (String, FieldError)> {
-    let Some(f_mm) = focal_length_mm else { return Ok(d) };
+/// The thin lens's distance to the plane in focus and to the film, m, from
+/// the distance `d` (m) measured from the film: with a focal length f,
+/// object and image distances s + s' = d and 1/s + 1/s' = 1/f give
+/// s = d (1 + r) / 2 and s' = 2f / (1 + r), r = sqrt(1 - 4f/d) (written so
+/// that no distance up to f64's largest overflows or cancels). Without a
+/// focal length the model has no film: s = d.
+fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<(f64, Option<f64>), (String, FieldError)> {
+    let Some(f_mm) = focal_length_mm else { return Ok((d, None)) };
     let f = f_mm * 1e-3;
     if !(f.is_finite() && f > 0.0) {
         return Err(("camera.focal_length_mm".into(), "must be a positive focal length in mm".into()));
@@ -23,7 +26,8 @@ fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<f64, (String, F
             format!("{d} m from the film: a {f_mm} mm thin lens cannot focus nearer than 4f = {} m", 4.0 * f).into(),
         ));
     }
-    Ok(0.5 * (d + (d * (d - 4.0 * f)).sqrt()))
+    let r = (1.0 - 4.0 * f / d).max(0.0).sqrt();
+    Ok((0.5 * d * (1.0 + r), Some(2.0 * f / (1.0 + r))))
 }
 
 pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (String, FieldError)> {
@@ -58,6 +62,9 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
         } => {
             let diameter = match (aperture, f_number, focal_length_mm) {
                 (Some(a), None, _) => *a,
+                (None, Some(n), Some(_)) if !(n.is_finite() && *n >= 0.5) => {
+                    return Err(("camera.f_number".into(), format!("{n}: give an f-number of 0.5 or more").into()))
+                }
                 (None, Some(n), Some(f)) => f / n * 1e-3,
                 (None, None, _) => 0.0,
                 _ => {
@@ -76,7 +83,7 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
             if !(focus_shift.is_finite() && (0.0..1.0).contains(focus_shift)) {
                 return Err(("camera.focus_shift".into(), "must be in [0, 1)".into()));
             }
-            let focus = lens_to_focus(*focus_distance, *focal_length_mm)?;
+            let (focus, film_distance) = lens_to_focus(*focus_distance, *focal_length_mm)?;
             let glass = match (glass, focal_length_mm) {
                 (None, _) => None,
                 (Some(_), None) => {
@@ -87,7 +94,8 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
                 }
                 (Some(name), Some(f_mm)) => {
                     let (glass, nd) = super::find_glass(name).map_err(|e| ("camera.glass".to_string(), e.into()))?;
-                    Some(ThinGlass { glass, nd, focal_length: f_mm * 1e-3, film_distance: focus_distance - focus })
+                    let film_distance = film_distance.unwrap_or(f_mm * 1e-3);
+                    Some(ThinGlass { glass, nd, focal_length: f_mm * 1e-3, film_distance })
                 }
             };
             Ok(Camera::ThinLens {

@@ -20,6 +20,12 @@ use std::sync::Arc;
 pub const MAX_PIXELS: u64 = 1 << 25;
 /// The most samples per pixel.
 pub const MAX_SPP: u32 = 1 << 20;
+/// The largest coordinate or size in a scene, m (a tenth of a light year:
+/// squares of it stay far from overflow).
+pub const MAX_COORDINATE: f64 = 1e15;
+/// The largest radiance or intensity a light may have (so that no pixel
+/// overflows a 32-bit float in an EXR).
+pub const MAX_RADIANCE: f64 = 1e20;
 
 /// Why a scene could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -222,10 +228,10 @@ impl Scene {
             source: message.into(),
         };
         let finite = |field: &str, v: &[f64]| -> Result<(), SceneError> {
-            if v.iter().all(|x| x.is_finite()) {
+            if v.iter().all(|x| x.is_finite() && x.abs() <= MAX_COORDINATE) {
                 Ok(())
             } else {
-                Err(bad(field.into(), "must be finite numbers".into()))
+                Err(bad(field.into(), format!("must be finite numbers of at most {MAX_COORDINATE:e} m")))
             }
         };
         // film
@@ -314,14 +320,18 @@ impl Scene {
             match s {
                 ShapeSpec::Sphere { center, radius, material: m } => {
                     finite(&field("center"), center)?;
-                    if !(radius.is_finite() && *radius > 0.0) {
-                        return Err(bad(field("radius"), format!("{radius}: a sphere needs a positive radius")));
+                    if !(radius.is_finite() && *radius > 0.0 && *radius <= MAX_COORDINATE) {
+                        return Err(bad(
+                            field("radius"),
+                            format!("{radius}: a sphere needs a positive radius of at most {MAX_COORDINATE:e} m"),
+                        ));
                     }
                     shapes.push(Shape::Sphere { center: v3(*center), radius: *radius });
                     material_of.push(material(i, m)?);
                 }
                 ShapeSpec::Plane { point, normal, material: m } => {
                     finite(&field("point"), point)?;
+                    finite(&field("normal"), normal)?;
                     let n = v3(*normal)
                         .try_normalize()
                         .ok_or_else(|| bad(field("normal"), "must be a non-zero vector".into()))?;
@@ -330,6 +340,8 @@ impl Scene {
                 }
                 ShapeSpec::Quad { corner, u, v, material: m } => {
                     finite(&field("corner"), corner)?;
+                    finite(&field("u"), u)?;
+                    finite(&field("v"), v)?;
                     if v3(*u).cross(v3(*v)).length() == 0.0 || !v3(*u).is_finite() || !v3(*v).is_finite() {
                         return Err(bad(field("u"), "u and v must be finite, non-parallel edges".into()));
                     }
@@ -337,6 +349,8 @@ impl Scene {
                     material_of.push(material(i, m)?);
                 }
                 ShapeSpec::Box { min, max, material: m } => {
+                    finite(&field("min"), min)?;
+                    finite(&field("max"), max)?;
                     let (lo, hi) = (v3(*min), v3(*max));
                     if !(lo.is_finite() && hi.is_finite() && lo.cmplt(hi).all()) {
                         return Err(bad(field("max"), "each coordinate of max must exceed min".into()));
@@ -362,10 +376,24 @@ impl Scene {
                         field: field("obj"),
                         source: FieldError::Mesh { path: p.clone(), source },
                     })?;
-                    if !(scale.is_finite() && *scale > 0.0) {
-                        return Err(bad(field("scale"), "must be positive".into()));
+                    if !(scale.is_finite() && *scale > 0.0 && *scale <= MAX_COORDINATE) {
+                        return Err(bad(
+                            field("scale"),
+                            format!("{scale}: give a positive scale of at most {MAX_COORDINATE:e}"),
+                        ));
                     }
                     finite(&field("translate"), translate)?;
+                    let far = tris
+                        .iter()
+                        .flatten()
+                        .map(|p| (*p * *scale + v3(*translate)).abs().max_element())
+                        .fold(0.0, f64::max);
+                    if far.is_nan() || far > MAX_COORDINATE {
+                        return Err(bad(
+                            field("scale"),
+                            format!("the mesh reaches {far:e} m: scenes end at {MAX_COORDINATE:e} m"),
+                        ));
+                    }
                     for t in tris {
                         shapes.push(Shape::Triangle { v: t.map(|p| p * *scale + v3(*translate)) });
                         material_of.push(mi);
@@ -388,8 +416,11 @@ impl Scene {
         let background = match &file.background {
             BackgroundSpec::Constant { radiance: c } => Background::Constant(radiance(c, "radiance")?),
             BackgroundSpec::Environment { exr, intensity } => {
-                if !(intensity.is_finite() && *intensity >= 0.0) {
-                    return Err(bad("background.intensity".into(), "must be a finite number >= 0".into()));
+                if !(intensity.is_finite() && *intensity >= 0.0 && *intensity <= MAX_RADIANCE) {
+                    return Err(bad(
+                        "background.intensity".into(),
+                        format!("must be a number from 0 to {MAX_RADIANCE:e}"),
+                    ));
                 }
                 let mut img = load_environment(&dir.join(exr)).map_err(|source| SceneError::Invalid {
                     path: name.to_string(),
@@ -514,15 +545,15 @@ fn find_glass(name: &str) -> Result<(Arc<lens::glass::PreparedIndex>, f64), Stri
 fn radiance_of(spec: &RadianceSpec) -> Result<Radiance, String> {
     match spec {
         RadianceSpec::Rgb(c) => {
-            if c.iter().all(|x| x.is_finite() && *x >= 0.0) {
+            if c.iter().all(|x| x.is_finite() && *x >= 0.0 && *x <= MAX_RADIANCE) {
                 Ok(Radiance::rgb(v3(*c)))
             } else {
-                Err("colours must be finite and >= 0".into())
+                Err(format!("{c:?}: give three numbers from 0 to {MAX_RADIANCE:e}"))
             }
         }
         RadianceSpec::Spectrum(s) => {
-            if !(s.luminance.is_finite() && s.luminance >= 0.0) {
-                return Err(format!("luminance {}: give a finite luminance >= 0", s.luminance));
+            if !(s.luminance.is_finite() && s.luminance >= 0.0 && s.luminance <= MAX_RADIANCE) {
+                return Err(format!("luminance {}: give a luminance from 0 to {MAX_RADIANCE:e}", s.luminance));
             }
             match (s.blackbody_k, s.illuminant.as_deref()) {
                 (Some(k), None) if k.is_finite() && (500.0..=100_000.0).contains(&k) => {

@@ -1,0 +1,235 @@
+//! Hostile and extreme input, one test per class of failure (issue 13): no
+//! command panics, runs without bound, writes over its input, leaves a
+//! partial output or writes inf/NaN; each refusal is exit 1 with a message
+//! that names the flag, field or surface and what to change. The cases are
+//! examples of their class; the fixes are for the class.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// A fresh folder for one test's files.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("lens-hostile-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn lens(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_lens")).args(args).current_dir(root()).output().unwrap()
+}
+
+/// Runs `args`, expects exit 1 and a message (on stderr, or for
+/// `validate` its report) containing every one of `words`; never a panic
+/// (101) or a signal.
+fn refused(args: &[&str], words: &[&str]) {
+    let out = lens(args);
+    let err = String::from_utf8_lossy(&out.stderr).to_string() + &String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{args:?}: exit {:?}, stderr: {err}", out.status);
+    for w in words {
+        assert!(err.contains(w), "{args:?}: the message lacks {w:?}: {err}");
+    }
+    assert!(!err.contains("panicked"), "{args:?}: {err}");
+}
+
+const DG: &str = "lens-data/double-gauss-50mm.json";
+
+#[test]
+fn outputs_are_checked_before_any_work() {
+    let d = scratch("outputs");
+    let scene = "lens-data/scenes/dof-pinhole.json";
+    let missing = d.join("no/such/folder/x.png");
+    refused(&["render", scene, "-o", missing.to_str().unwrap()], &["-o", "does not exist"]);
+    let x_png = d.join("x.png");
+    let x_jpg = d.join("x.jpg");
+    // the second output's bad format is found before the first is written
+    refused(&["render", scene, "-o", x_png.to_str().unwrap(), "--exr", x_jpg.to_str().unwrap()], &["--exr", ".exr"]);
+    assert!(!x_png.exists(), "a partial output stayed behind");
+    refused(&["layout", DG, "-o", d.join("l.gif").to_str().unwrap()], &["-o", ".svg or .png"]);
+    refused(&["fan", DG, "--plot", d.to_str().unwrap()], &["--plot"]);
+}
+
+#[test]
+fn no_output_overwrites_an_input() {
+    let d = scratch("inputs");
+    let scene = d.join("s.json");
+    std::fs::copy(root().join("lens-data/scenes/dof-pinhole.json"), &scene).unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    let out_png = d.join("o.png");
+    refused(&["render", scene.to_str().unwrap(), "-o", scene.to_str().unwrap()], &["-o"]);
+    let report_on_image = d.join("r.md");
+    let plot_png = d.join("r-plot.png");
+    refused(
+        &[
+            "render",
+            scene.to_str().unwrap(),
+            "-o",
+            plot_png.to_str().unwrap(),
+            "--report",
+            report_on_image.to_str().unwrap(),
+            "--spp",
+            "2",
+        ],
+        &["give each output its own file"],
+    );
+    assert_eq!(std::fs::read(&scene).unwrap(), before, "the scene was overwritten");
+    assert!(!out_png.exists());
+    let lens_copy = d.join("dg.json");
+    std::fs::copy(root().join(DG), &lens_copy).unwrap();
+    let p = lens_copy.to_str().unwrap();
+    refused(&["convert", p, "-o", p], &["is an input"]);
+    refused(&["fan", p, "--plot", p], &["--plot"]);
+    assert_eq!(std::fs::read(&lens_copy).unwrap(), std::fs::read(root().join(DG)).unwrap());
+}
+
+#[test]
+fn sizes_are_bounded_with_the_limit_named() {
+    refused(&["validate", "/dev/zero"], &["MiB"]);
+    let d = scratch("sizes");
+    let r = d.join("r.png");
+    let md = d.join("r.md");
+    refused(
+        &[
+            "render",
+            "lens-data/scenes/report-pinhole.json",
+            "-o",
+            r.to_str().unwrap(),
+            "--report",
+            md.to_str().unwrap(),
+            "--spp",
+            "2147483648",
+        ],
+        &["--spp", "1048576"],
+    );
+    refused(
+        &["render", "lens-data/scenes/dof-pinhole.json", "-o", r.to_str().unwrap(), "--threads", "5000"],
+        &["--threads", "256"],
+    );
+    let big = d.join("big.json");
+    std::fs::write(
+        &big,
+        r#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40},
+            "film": {"width": 16384, "height": 16384}}"#,
+    )
+    .unwrap();
+    refused(&["render", big.to_str().unwrap(), "-o", r.to_str().unwrap()], &["film", "pixels"]);
+}
+
+#[test]
+fn impossible_numbers_are_refused_where_they_are_written() {
+    let d = scratch("numbers");
+    let write = |name: &str, text: &str| {
+        let p = d.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    // a subnormal radius would make the curvature infinite
+    let sub = write(
+        "sub.json",
+        r#"{"surfaces": [{"radius": 1e-320, "thickness": 5, "ior": 1.5, "semi_diameter": 1e-321, "stop": true},
+                         {"thickness": 50, "semi_diameter": 10}]}"#,
+    );
+    refused(&["info", &sub], &["surface 1", "radius"]);
+    let ior = write(
+        "ior.json",
+        r#"{"surfaces": [{"radius": 50, "thickness": 5, "ior": 1e300, "semi_diameter": 10, "stop": true},
+                         {"thickness": 50, "semi_diameter": 10}]}"#,
+    );
+    refused(&["info", &ior], &["surface 1", "ior"]);
+    // a film inside the lens, field angles that are not angles
+    refused(&["fan", DG, "--film=-5", "--json"], &["--film", "inside the lens"]);
+    for f in ["90", "nan", ""] {
+        refused(&["layout", DG, "--fields", f, "-o", d.join("l.svg").to_str().unwrap()], &["--fields"]);
+    }
+    // lights too bright for any image format
+    let bright = write(
+        "bright.json",
+        r#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40},
+            "film": {"width": 8, "height": 8}, "background": {"type": "constant", "radiance": [1e308, 1, 1]}}"#,
+    );
+    refused(&["render", &bright, "-o", d.join("b.exr").to_str().unwrap()], &["background.radiance"]);
+    let negative = write(
+        "negative.json",
+        r#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40},
+            "film": {"width": 8, "height": 8}, "background": {"type": "constant", "radiance": [-1, 1, 1]}}"#,
+    );
+    refused(&["render", &negative, "-o", d.join("n.exr").to_str().unwrap()], &["background.radiance"]);
+    let f0 = write(
+        "f0.json",
+        r#"{"camera": {"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40,
+                       "f_number": 0, "focal_length_mm": 50, "focus_distance": 2},
+            "film": {"width": 8, "height": 8}}"#,
+    );
+    refused(&["render", &f0, "-o", d.join("f.png").to_str().unwrap()], &["camera.f_number"]);
+    let far = write(
+        "far.json",
+        r#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40},
+            "film": {"width": 8, "height": 8},
+            "materials": {"m": {"type": "diffuse", "color": [1, 1, 1]}},
+            "shapes": [{"type": "sphere", "center": [0, 0, 1e200], "radius": 1e199, "material": "m"}]}"#,
+    );
+    refused(&["render", &far, "-o", d.join("far.png").to_str().unwrap()], &["shapes[0].center"]);
+}
+
+#[test]
+fn extreme_but_finite_distances_behave_like_their_limit() {
+    let d = scratch("limits");
+    // a thin lens focused as far as f64 goes renders what focus at
+    // infinity renders: finite pixels
+    let scene = d.join("far-focus.json");
+    std::fs::write(
+        &scene,
+        r#"{"camera": {"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40,
+                       "f_number": 2, "focal_length_mm": 50, "focus_distance": 1.7e308},
+            "film": {"width": 16, "height": 16, "spp": 4},
+            "background": {"type": "constant", "radiance": [0.5, 0.5, 0.5]},
+            "materials": {"m": {"type": "diffuse", "color": [0.5, 0.5, 0.5]}},
+            "shapes": [{"type": "sphere", "center": [0, 0, 5], "radius": 1, "material": "m"}]}"#,
+    )
+    .unwrap();
+    let out = lens(&["render", scene.to_str().unwrap(), "-o", d.join("f.png").to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = lens(&["focus", DG, "--object-distance", "1e200", "--json"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(!text.contains("NaN") && !text.contains("inf") && !text.contains("null"), "{text}");
+}
+
+#[test]
+fn malformed_files_get_one_plain_message() {
+    let d = scratch("malformed");
+    let write = |name: &str, bytes: &[u8]| {
+        let p = d.join(name);
+        std::fs::write(&p, bytes).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let arr = write("arr.json", b"[1, 2]");
+    refused(&["info", &arr], &["one JSON object"]);
+    let bad = write("bad.json", b"{\"surfaces\": [}");
+    let out = lens(&["info", &bad]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(err.matches("column").count(), 1, "the position is stated once: {err}");
+    // a byte-order mark is fine
+    let mut bom = b"\xef\xbb\xbf".to_vec();
+    bom.extend_from_slice(&std::fs::read(root().join(DG)).unwrap());
+    let bom = write("bom.json", &bom);
+    assert!(lens(&["info", &bom]).status.success());
+    // a material defined twice, a mesh with no faces
+    let dup = write(
+        "dup.json",
+        br#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40}, "film": {"width": 8, "height": 8},
+            "materials": {"a": {"type": "diffuse", "color": [1,0,0]}, "a": {"type": "diffuse", "color": [0,1,0]}}}"#,
+    );
+    refused(&["render", &dup, "-o", d.join("d.png").to_str().unwrap()], &["\"a\" is defined twice"]);
+    write("empty.obj", b"# nothing here\n");
+    let mesh = write(
+        "mesh.json",
+        br#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40}, "film": {"width": 8, "height": 8},
+            "materials": {"a": {"type": "diffuse", "color": [1,0,0]}}, "shapes": [{"type": "mesh", "obj": "empty.obj", "material": "a"}]}"#,
+    );
+    refused(&["render", &mesh, "-o", d.join("m.png").to_str().unwrap()], &["shapes[0].obj", "no faces"]);
+}

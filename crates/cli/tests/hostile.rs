@@ -233,3 +233,28 @@ fn malformed_files_get_one_plain_message() {
     );
     refused(&["render", &mesh, "-o", d.join("m.png").to_str().unwrap()], &["shapes[0].obj", "no faces"]);
 }
+
+#[test]
+fn a_plot_stays_a_plot() {
+    let d = scratch("plots");
+    // three million rays draw about 20,000 points
+    let svg = d.join("s.svg");
+    let out = lens(&["spot", DG, "--pattern", "hexapolar", "--n", "1000", "--plot", svg.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let size = std::fs::metadata(&svg).unwrap().len();
+    assert!(size < 5 << 20, "{size} bytes");
+    // a control character in a lens's name leaves the SVG valid XML
+    let p = d.join("ctl.json");
+    std::fs::write(
+        &p,
+        "{\"name\": \"bad\\u0001name <&>\", \"surfaces\": [{\"radius\": 50, \"thickness\": 5, \"ior\": 1.5, \"semi_diameter\": 10, \"stop\": true}, {\"thickness\": 50, \"semi_diameter\": 10}]}",
+    )
+    .unwrap();
+    let svg = d.join("ctl.svg");
+    let out = lens(&["layout", p.to_str().unwrap(), "-o", svg.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(!text.chars().any(|c| (c as u32) < 0x20 && !"\t\n\r".contains(c)), "a control character reached the SVG");
+    assert!(text.contains("&lt;&amp;&gt;"));
+    assert!(!text.contains("NaN") && !text.contains("inf"), "non-finite numbers in the SVG");
+}

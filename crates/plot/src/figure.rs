@@ -119,9 +119,23 @@ impl Figure {
     }
 }
 
-/// Escapes text for SVG.
+/// Escapes text for SVG: the XML specials, and characters XML 1.0 does
+/// not allow at all (control characters other than tab and newlines, which
+/// a lens's name might hold) replaced by U+FFFD, so the file stays valid.
 pub fn esc(t: &str) -> String {
-    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    let mut out = String::with_capacity(t.len());
+    for c in t.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\t' | '\n' | '\r' => out.push(' '),
+            c if (c as u32) < 0x20 || c == '\u{fffe}' || c == '\u{ffff}' => out.push('\u{fffd}'),
+            c => out.push(c),
+        }
+    }
+    out
 }
 
 /// A data-to-pixel mapping of one panel.

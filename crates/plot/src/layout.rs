@@ -26,7 +26,10 @@ pub fn layout_chart(p: &Prescription, fields_deg: &[f64], rays_per_field: usize,
             .collect()
     };
     let mut panel = Panel {
-        title: format!("{} (EFL {:.2} mm)", p.name(), lens::paraxial::FirstOrder::of(p).map_or(f64::NAN, |f| f.efl)),
+        title: match lens::paraxial::FirstOrder::of(p).map(|f| f.efl) {
+            Ok(efl) if efl.is_finite() => format!("{} (EFL {efl:.2} mm)", p.name()),
+            _ => format!("{} (afocal: no focal length)", p.name()),
+        },
         x_label: "z (mm from the first vertex)".into(),
         y_label: "y (mm)".into(),
         equal_aspect: true,

@@ -3,6 +3,17 @@
 use crate::figure::{Circle, Figure, Panel, Series, Style, PALETTE};
 use lens::analysis::spot::SpotDiagram;
 
+/// About the most ray points drawn in one panel.
+pub const MAX_DRAWN: usize = 20_000;
+
+/// SplitMix64's finaliser: a well-spread hash of an index.
+fn mix(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
+}
+
 /// A figure with one panel per spot: ray positions relative to the chief
 /// ray in micrometres, same scale on both axes, the Airy disk drawn around
 /// the chief ray.
@@ -11,14 +22,26 @@ pub fn spot_chart(spots: &[SpotDiagram], name: &str) -> String {
         .iter()
         .enumerate()
         .map(|(k, s)| {
-            let pts = s.hits.iter().map(|h| ((h[0] - s.chief[0]) * 1e3, (h[1] - s.chief[1]) * 1e3)).collect();
+            // a plot stays a plot: about MAX_DRAWN points, one in `every`
+            // chosen by a hash of its index (a fixed stride would draw
+            // moire patterns of the ring patterns); the statistics in the
+            // title use them all
+            let every = s.hits.len().div_ceil(MAX_DRAWN).max(1) as u64;
+            let pts = s
+                .hits
+                .iter()
+                .enumerate()
+                .filter(|(i, _)| every == 1 || mix(*i as u64) % every == 0)
+                .map(|(_, h)| ((h[0] - s.chief[0]) * 1e3, (h[1] - s.chief[1]) * 1e3))
+                .collect();
+            let drawn = if every > 1 { format!(", 1 in {every} drawn") } else { String::new() };
             let field = s.field_deg.map_or("finite object".to_string(), |d| format!("{d} deg"));
             Panel {
                 title: format!("{field}: RMS {:.2} um, GEO {:.2} um", s.rms_radius * 1e3, s.geo_radius * 1e3),
                 x_label: "x - chief (um)".into(),
                 y_label: "y - chief (um)".into(),
                 series: vec![Series::new(
-                    format!("{} rays, {} vignetted", s.rays, s.vignetted),
+                    format!("{} rays, {} vignetted{drawn}", s.rays, s.vignetted),
                     pts,
                     PALETTE[k % PALETTE.len()],
                     Style::Dots(1.4),

@@ -31,7 +31,7 @@ pub fn spot_chart(spots: &[SpotDiagram], name: &str) -> String {
                 .hits
                 .iter()
                 .enumerate()
-                .filter(|(i, _)| every == 1 || mix(*i as u64) % every == 0)
+                .filter(|(i, _)| every == 1 || mix(*i as u64).is_multiple_of(every))
                 .map(|(_, h)| ((h[0] - s.chief[0]) * 1e3, (h[1] - s.chief[1]) * 1e3))
                 .collect();
             let drawn = if every > 1 { format!(", 1 in {every} drawn") } else { String::new() };

@@ -258,3 +258,27 @@ fn a_plot_stays_a_plot() {
     assert!(text.contains("&lt;&amp;&gt;"));
     assert!(!text.contains("NaN") && !text.contains("inf"), "non-finite numbers in the SVG");
 }
+
+#[test]
+fn work_per_ray_and_per_run_is_bounded() {
+    let d = scratch("work");
+    let surfaces: Vec<String> = (0..1001)
+        .map(|i| {
+            let (r, n) = if i % 2 == 0 { (1000.0, 1.5) } else { (-1000.0, 1.0) };
+            let stop = if i == 0 { ", \"stop\": true" } else { "" };
+            format!("{{\"radius\": {r}, \"thickness\": 1, \"ior\": {n}, \"semi_diameter\": 10{stop}}}")
+        })
+        .collect();
+    let many = d.join("many.json");
+    std::fs::write(&many, format!("{{\"surfaces\": [{}]}}", surfaces.join(","))).unwrap();
+    refused(&["bench", many.to_str().unwrap()], &["1001 surfaces", "at most 1000"]);
+    let blades = d.join("blades.json");
+    std::fs::write(
+        &blades,
+        r#"{"camera": {"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40, "aperture": 0.1,
+                       "focus_distance": 2, "aperture_shape": {"shape": "polygon", "blades": 100000}},
+            "film": {"width": 8, "height": 8}}"#,
+    )
+    .unwrap();
+    refused(&["render", blades.to_str().unwrap(), "-o", d.join("b.png").to_str().unwrap()], &["blades", "64"]);
+}

@@ -74,6 +74,18 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
         out.push(Severity::Error, None, Some("surfaces"), "no surfaces: list at least one surface".into());
         return out.0;
     }
+    if spec.surfaces.len() > MAX_SURFACES {
+        out.push(
+            Severity::Error,
+            None,
+            Some("surfaces"),
+            format!(
+                "{} surfaces: at most {MAX_SURFACES} (camera lenses have a few dozen); is this the right file?",
+                spec.surfaces.len()
+            ),
+        );
+        return out.0;
+    }
     for (i, s) in spec.surfaces.iter().enumerate() {
         check_surface(&mut out, i + 1, s);
     }
@@ -131,6 +143,8 @@ pub const MIN_RADIUS: f64 = 1e-6;
 /// The largest thickness or semi-diameter, mm (sums of many of them stay
 /// far from overflow).
 pub const MAX_LENGTH: f64 = 1e9;
+/// The most surfaces a prescription may have.
+pub const MAX_SURFACES: usize = 1000;
 /// The largest constant refractive index (germanium, the highest optical
 /// material in common use, is about 4 in the infrared).
 pub const MAX_IOR: f64 = 10.0;

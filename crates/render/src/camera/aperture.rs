@@ -3,11 +3,15 @@
 use crate::scene::format::ApertureSpec;
 use std::path::PathBuf;
 
+/// The most blades a polygonal aperture may have (the work per ray grows
+/// with them).
+pub const MAX_BLADES: u32 = 64;
+
 /// Why an aperture shape could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum ApertureError {
-    /// A polygon with fewer than three blades.
-    #[error("blades = {blades}: a polygon needs at least 3 blades")]
+    /// A polygon with fewer than three blades or more than [`MAX_BLADES`].
+    #[error("blades = {blades}: a polygon needs 3 to {MAX_BLADES} blades (irises have 5 to 20)")]
     Blades {
         /// Blades given.
         blades: u32,
@@ -105,7 +109,7 @@ impl Aperture {
             ApertureSpec::Mask { ref image } => Aperture::Mask(Box::new(load_mask(&dir.join(image))?)),
             ApertureSpec::Circle => Aperture::Circle,
             ApertureSpec::Polygon { blades, rotation_deg } => {
-                if blades < 3 {
+                if !(3..=MAX_BLADES).contains(&blades) {
                     return Err(ApertureError::Blades { blades });
                 }
                 if !rotation_deg.is_finite() {

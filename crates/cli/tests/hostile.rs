@@ -282,3 +282,22 @@ fn work_per_ray_and_per_run_is_bounded() {
     .unwrap();
     refused(&["render", blades.to_str().unwrap(), "-o", d.join("b.png").to_str().unwrap()], &["blades", "64"]);
 }
+
+#[test]
+fn decoder_errors_are_words_not_debug_dumps() {
+    let d = scratch("decoders");
+    std::fs::write(d.join("bad.png"), b"\x89PNG\r\n\x1a\n\x00\x00\x00\x0dageg\x00\x00").unwrap();
+    let scene = d.join("mask.json");
+    std::fs::write(
+        &scene,
+        r#"{"camera": {"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40, "aperture": 0.1,
+                       "focus_distance": 2, "aperture_shape": {"shape": "mask", "image": "bad.png"}},
+            "film": {"width": 8, "height": 8}}"#,
+    )
+    .unwrap();
+    let out = lens(&["render", scene.to_str().unwrap(), "-o", d.join("m.png").to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(err.contains("camera.aperture_shape") && err.contains("\"ageg\""), "{err}");
+    assert!(!err.contains("ChunkType {") && !err.contains("critical:"), "{err}");
+}

@@ -245,11 +245,24 @@ pub fn concentric(u: (f64, f64)) -> (f64, f64) {
     (r * phi.cos(), r * phi.sin())
 }
 
+/// The PNG decoder's message with its debug dump of a chunk type
+/// (`ChunkType { type: ageg, critical: false, ... }`) written as the chunk's
+/// name (`"ageg"`): what a user can act on.
+#[cfg(feature = "png")]
+fn plain_decoder_message(m: &str) -> String {
+    const DUMP: &str = "ChunkType { type: ";
+    let Some(start) = m.find(DUMP) else { return m.to_string() };
+    let rest = &m[start + DUMP.len()..];
+    let name: String = rest.chars().take_while(|c| c.is_ascii_alphanumeric()).collect();
+    let end = rest.find('}').map_or(m.len(), |e| start + DUMP.len() + e + 1);
+    format!("{}\"{name}\"{}", &m[..start], &m[end..])
+}
+
 /// Reads a grey-scale PNG mask (needs the `png` feature).
 #[cfg(feature = "png")]
 fn load_mask(path: &std::path::Path) -> Result<Mask, ApertureError> {
     let read = |message: String| ApertureError::Read { path: path.to_path_buf(), message };
-    let img = image::open(path).map_err(|e| read(e.to_string()))?.to_luma8();
+    let img = image::open(path).map_err(|e| read(plain_decoder_message(&e.to_string())))?.to_luma8();
     let (w, h) = (img.width() as usize, img.height() as usize);
     let values = img.pixels().map(|p| p.0[0] as f64 / 255.0).collect();
     Mask::new(w, h, values)

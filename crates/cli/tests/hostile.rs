@@ -301,3 +301,23 @@ fn decoder_errors_are_words_not_debug_dumps() {
     assert!(err.contains("camera.aperture_shape") && err.contains("\"ageg\""), "{err}");
     assert!(!err.contains("ChunkType {") && !err.contains("critical:"), "{err}");
 }
+
+#[test]
+fn an_exr_declaring_a_huge_image_is_refused_before_allocation() {
+    // 385 bytes whose header declares 40000 x 40000 pixels (a 1 x 1 image
+    // with its data window rewritten)
+    let d = scratch("exr");
+    std::fs::copy(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/huge-header.exr"), d.join("huge.exr"))
+        .unwrap();
+    let scene = d.join("env.json");
+    std::fs::write(
+        &scene,
+        r#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40},
+            "film": {"width": 8, "height": 8}, "background": {"type": "environment", "exr": "huge.exr"}}"#,
+    )
+    .unwrap();
+    refused(
+        &["render", scene.to_str().unwrap(), "-o", d.join("x.png").to_str().unwrap()],
+        &["background.exr", "40000 x 40000"],
+    );
+}

@@ -68,7 +68,7 @@ pub fn run(a: Args) -> CmdResult {
         "real/thin"
     );
     for r in &t.rows {
-        let d = r.distance.map_or("inf".to_string(), num);
+        let d = r.distance.map_or("infinity".to_string(), num);
         let ratio = if r.thin_lens_diameter > 0.0 { r.geo_diameter / r.thin_lens_diameter } else { f64::NAN };
         let ratio = if ratio.is_finite() { format!("{ratio:.4}") } else { "-".into() };
         outln!("{d:>14} {:>14.6} {:>14.6} {:>14.6} {ratio:>9}", r.geo_diameter, r.rms_diameter, r.thin_lens_diameter);

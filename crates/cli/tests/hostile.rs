@@ -321,3 +321,21 @@ fn an_exr_declaring_a_huge_image_is_refused_before_allocation() {
         &["background.exr", "40000 x 40000"],
     );
 }
+
+#[test]
+fn no_inf_or_nan_reaches_standard_output() {
+    let d = scratch("stdout");
+    // infinity is written as a word
+    let out = lens(&["coc", DG, "--focus-mm", "2000", "--distances", "1000,inf"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success() && text.contains("infinity") && !text.contains(" inf "), "{text}");
+    // a stop too small to pass light is refused rather than given f/inf
+    let p = d.join("tiny-stop.json");
+    std::fs::write(
+        &p,
+        r#"{"surfaces": [{"radius": 50, "thickness": 5, "ior": 1.5, "semi_diameter": 1e-320, "stop": true},
+                         {"thickness": 50, "semi_diameter": 10}]}"#,
+    )
+    .unwrap();
+    refused(&["info", p.to_str().unwrap(), "--json"], &["surface 1", "semi_diameter"]);
+}

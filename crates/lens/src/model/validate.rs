@@ -232,6 +232,11 @@ fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
         Some(sd) if !sd.is_finite() || sd <= 0.0 => {
             out.error(n, "semi_diameter", format!("semi_diameter {sd} mm must be a positive number of mm"))
         }
+        Some(sd) if sd < MIN_RADIUS => out.error(
+            n,
+            "semi_diameter",
+            format!("semi_diameter {} mm is smaller than {MIN_RADIUS} mm: no light gets through; give the clear radius in mm", num(sd)),
+        ),
         Some(sd) => {
             if let Some(r) = s.radius {
                 if r.is_finite() && r != 0.0 && sd > r.abs() {

@@ -36,11 +36,14 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
-    /// Instead of one render: render at 1, 2, 4, ... up to --spp samples per
-    /// pixel, time each and measure its RMSE against a reference of 4x --spp
-    /// samples; write a markdown report here, a plot beside it
+    /// Instead of one render: render at 1, 2, 4, ... and --spp samples per
+    /// pixel, time each and measure its RMSE (and relative to the mean
+    /// pixel value) against a reference of 16x --spp samples, whose own
+    /// noise is stated; write the report here (.md, or .json:
+    /// {"reference_spp", "rows": [{"spp", "seconds", "rmse",
+    /// "relative_rmse", "rays_through_lens"}]}), a plot beside it
     /// (NAME-plot.svg and .png) and the reference image as the output.
-    #[arg(long, value_name = "OUT.md")]
+    #[arg(long, value_name = "OUT.md|OUT.json")]
     report: Option<PathBuf>,
 }
 
@@ -74,7 +77,7 @@ pub fn run(a: Args) -> CmdResult {
         outs.push(Output { path: exr, flag: "--exr", extensions: &["exr"] });
     }
     if let (Some(md), Some(plots)) = (&a.report, &plots) {
-        outs.push(Output { path: md, flag: "--report", extensions: &["md"] });
+        outs.push(Output { path: md, flag: "--report", extensions: &["md", "json"] });
         for p in plots {
             outs.push(Output { path: p, flag: "--report (its plot)", extensions: &[] });
         }
@@ -144,62 +147,148 @@ pub fn run(a: Args) -> CmdResult {
     Ok(ExitCode::SUCCESS)
 }
 
-fn report(a: &Args, scene: &Scene, spp: u32, pool: &rayon::ThreadPool, md: &std::path::Path) -> CmdResult {
-    let mut spps = vec![];
-    let mut k = 1;
-    while k <= spp {
-        spps.push(k);
-        k *= 2;
+/// The report's reference has this many times the sweep's largest count.
+const REFERENCE_FACTOR: u32 = 16;
+/// Below this many samples per pixel a sweep has too few points to show a
+/// trend.
+const FEW_SPP: u32 = 8;
+
+fn report(a: &Args, scene: &Scene, spp: u32, pool: &rayon::ThreadPool, path: &std::path::Path) -> CmdResult {
+    if spp > MAX_SPP / REFERENCE_FACTOR {
+        return Err(format!(
+            "--report with --spp {spp}: at most {} (the reference renders {REFERENCE_FACTOR} times as many samples)",
+            MAX_SPP / REFERENCE_FACTOR
+        )
+        .into());
     }
-    let r = pool.install(|| ::render::report::error_against_time(scene, &spps, spp * 4, a.seed));
+    if spp < FEW_SPP {
+        eprintln!("warning: --spp {spp}: a sweep to fewer than {FEW_SPP} samples per pixel has too few points to show how the error falls");
+    }
+    let spps = ::render::report::sweep(spp);
+    let reference_spp = spp * REFERENCE_FACTOR;
+    // progress over every render's rows: the reference's two halves, then the sweep
+    let bar = indicatif::ProgressBar::new(((spps.len() + 2) * scene.film.height as usize) as u64);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {percent}% of the sweep and its reference, {elapsed} elapsed, ETA {eta}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let r = pool.install(|| {
+        ::render::report::error_against_time(scene, &spps, reference_spp, a.seed, &|done| bar.set_position(done as u64))
+    });
+    bar.finish_and_clear();
     r.reference.save(&a.output, scene.film.exposure)?;
+    let json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let text = if json {
+        serde_json::json!({
+            "scene": a.scene.display().to_string(),
+            "width": scene.film.width,
+            "height": scene.film.height,
+            "threads": pool.current_num_threads(),
+            "reference_spp": r.reference_spp,
+            "reference_seconds": r.reference_seconds,
+            "reference_noise": r.reference_noise,
+            "reference_relative_noise": relative(r.reference_noise, r.reference_mean),
+            "rows": r.rows,
+        })
+        .to_string()
+            + "\n"
+    } else {
+        markdown(a, scene, pool, &r)
+    };
+    lens::io::files::write_bytes_atomic(path, text.as_bytes())
+        .map_err(|e| format!("{}: cannot write: {e}", path.display()))?;
+    let svg = report_plot(&a.scene.display().to_string(), &r);
+    for p in report_plots(path) {
+        plot::save(&svg, &p)?;
+    }
+    if !json {
+        eprint!("{text}");
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `x / mean`, 0 for a black image.
+fn relative(x: f64, mean: f64) -> f64 {
+    if mean > 0.0 {
+        x / mean
+    } else {
+        0.0
+    }
+}
+
+/// The report as a markdown page.
+fn markdown(a: &Args, scene: &Scene, pool: &rayon::ThreadPool, r: &::render::report::Report) -> String {
     let mut out = String::new();
     use std::fmt::Write;
     let _ = writeln!(out, "# Error against run time: {}\n", a.scene.display());
     let _ = writeln!(
         out,
-        "{} x {} pixels, {} threads; reference: {} spp (another seed) in {:.2} s.\n",
+        "{} x {} pixels, {} threads; reference: {} spp (two halves with other seeds) in {:.2} s, its own noise {:.5} \
+         ({:.3}% of the mean pixel value {:.5}).\n",
         scene.film.width,
         scene.film.height,
         pool.current_num_threads(),
         r.reference_spp,
-        r.reference_seconds
+        r.reference_seconds,
+        r.reference_noise,
+        100.0 * relative(r.reference_noise, r.reference_mean),
+        r.reference_mean,
     );
-    let _ = writeln!(out, "| spp | time (s) | RMSE | RMSE x sqrt(time) | camera rays through the lens |");
-    let _ = writeln!(out, "|---:|---:|---:|---:|---:|");
+    let _ = writeln!(
+        out,
+        "| spp | time (s) | RMSE | relative RMSE (% of mean) | RMSE x sqrt(time) | camera rays through the lens |"
+    );
+    let _ = writeln!(out, "|---:|---:|---:|---:|---:|---:|");
     for row in &r.rows {
         let _ = writeln!(
             out,
-            "| {} | {:.3} | {:.5} | {:.5} | {:.1}% |",
+            "| {} | {:.3} | {:.5} | {:.3} | {:.5} | {:.1}% |",
             row.spp,
             row.seconds,
             row.rmse,
+            100.0 * row.relative_rmse,
             row.rmse * row.seconds.sqrt(),
-            100.0 * row.pass_rate
+            100.0 * row.rays_through_lens
         );
     }
-    let _ = writeln!(out, "\nRMSE x sqrt(time) is the cost of a given error: lower is cheaper; it is constant where the error falls as 1/sqrt(samples).");
-    lens::io::files::write_bytes_atomic(md, out.as_bytes())
-        .map_err(|e| format!("{}: cannot write: {e}", md.display()))?;
+    let _ = writeln!(
+        out,
+        "\nRMSE is in the image's linear radiance; relative RMSE divides it by the reference's mean pixel value. \
+         RMSE x sqrt(time) is the cost of a given error: lower is cheaper; it is constant where the error falls as \
+         1/sqrt(samples). Errors near the reference's own noise are the reference's."
+    );
+    out
+}
+
+/// Relative RMSE against time, log-log, a marker at each sample count, the
+/// 1/sqrt(time) line through the first, and the reference's noise.
+fn report_plot(title: &str, r: &::render::report::Report) -> String {
+    use plot::figure::{Series, Style, PALETTE};
     let pts: Vec<(f64, f64)> =
-        r.rows.iter().map(|x| (x.seconds.max(1e-6).log10(), x.rmse.max(1e-12).log10())).collect();
+        r.rows.iter().map(|x| (x.seconds.max(1e-6).log10(), (100.0 * x.relative_rmse).max(1e-9).log10())).collect();
+    let mut series = vec![
+        Series::new("render", pts.clone(), PALETTE[0], Style::Line),
+        Series::new("each sample count", pts.clone(), PALETTE[0], Style::Dots(3.5)),
+    ];
+    if let (Some(&(t0, e0)), Some(&(t1, _))) = (pts.first(), pts.last()) {
+        series.push(Series::new("1/sqrt(time)", vec![(t0, e0), (t1, e0 - 0.5 * (t1 - t0))], PALETTE[1], Style::Dashed));
+        let noise = (100.0 * relative(r.reference_noise, r.reference_mean)).max(1e-9).log10();
+        series.push(Series::new("reference's own noise", vec![(t0, noise), (t1, noise)], PALETTE[2], Style::Dashed));
+    }
     let panel = plot::figure::Panel {
-        title: format!("{}", a.scene.display()),
+        title: title.to_string(),
         x_label: "log10 time (s)".into(),
-        y_label: "log10 RMSE".into(),
-        series: vec![plot::figure::Series::new("render", pts, plot::figure::PALETTE[0], plot::figure::Style::Line)],
+        y_label: "log10 relative RMSE (% of mean)".into(),
+        series,
         ..Default::default()
     };
-    let svg = plot::figure::Figure {
+    plot::figure::Figure {
         title: "Error against run time".into(),
         panels: vec![panel],
         columns: 1,
         panel_size: (560.0, 380.0),
     }
-    .to_svg();
-    for p in report_plots(md) {
-        plot::save(&svg, &p)?;
-    }
-    eprint!("{out}");
-    Ok(ExitCode::SUCCESS)
+    .to_svg()
 }

@@ -3,7 +3,7 @@
 use crate::outputs::{self, Output};
 use crate::CmdResult;
 use ::render::scene::format::SpectralSpec;
-use ::render::scene::ColourMode;
+use ::render::scene::{CameraKind, ColourMode};
 use ::render::{render, Options, Scene};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -33,6 +33,39 @@ pub struct Args {
     /// Render one wavelength only, nm: a grey image of the radiance there.
     #[arg(long, value_name = "NM")]
     wavelength_nm: Option<f64>,
+    /// Film width, pixels (overrides the scene's).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Film height, pixels.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Switch the camera: a real lens becomes the thin lens matched to it
+    /// (focal length, f-number, focus, field of view); a thin lens with a
+    /// focal length becomes a real lens (give --prescription) with the same
+    /// field of view.
+    #[arg(long, value_enum)]
+    camera: Option<CameraFlag>,
+    /// Thin-lens aperture diameter, m.
+    #[arg(long, value_name = "M")]
+    aperture: Option<f64>,
+    /// f-number (a thin lens with --focal-length-mm, or a real lens: resizes its stop).
+    #[arg(long, value_name = "N")]
+    f_number: Option<f64>,
+    /// Thin-lens focal length, mm.
+    #[arg(long, value_name = "MM")]
+    focal_length_mm: Option<f64>,
+    /// Distance from the film to the plane in focus, m.
+    #[arg(long, value_name = "M")]
+    focus_distance: Option<f64>,
+    /// The thin lens's focus_shift (0.1: 10% nearer at the rim).
+    #[arg(long, value_name = "FRACTION")]
+    focus_shift: Option<f64>,
+    /// Aperture shape: circle, polygon:BLADES[:ROTATION_DEG] or mask:FILE.png.
+    #[arg(long, value_name = "SHAPE", value_parser = ::render::scene::Overrides::parse_shape)]
+    aperture_shape: Option<::render::scene::format::ApertureSpec>,
+    /// A real lens's prescription file (with --camera lens, or replacing the scene's).
+    #[arg(long, value_name = "FILE")]
+    prescription: Option<PathBuf>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -45,6 +78,14 @@ pub struct Args {
     /// (NAME-plot.svg and .png) and the reference image as the output.
     #[arg(long, value_name = "OUT.md|OUT.json")]
     report: Option<PathBuf>,
+}
+
+/// `--camera` values.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum CameraFlag {
+    Pinhole,
+    ThinLens,
+    Lens,
 }
 
 /// `--spectral` values.
@@ -68,7 +109,24 @@ fn report_plots(md: &std::path::Path) -> [std::path::PathBuf; 2] {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let mut scene = Scene::load(&a.scene)?;
+    let overrides = ::render::scene::Overrides {
+        width: a.width,
+        height: a.height,
+        spp: None,
+        camera: a.camera.map(|c| match c {
+            CameraFlag::Pinhole => CameraKind::Pinhole,
+            CameraFlag::ThinLens => CameraKind::ThinLens,
+            CameraFlag::Lens => CameraKind::Lens,
+        }),
+        aperture: a.aperture,
+        f_number: a.f_number,
+        focal_length_mm: a.focal_length_mm,
+        focus_distance: a.focus_distance,
+        focus_shift: a.focus_shift,
+        aperture_shape: a.aperture_shape.clone(),
+        prescription: a.prescription.clone(),
+    };
+    let mut scene = Scene::load_with(&a.scene, &overrides)?;
     // every output checked before any work: formats, folders, and none of
     // them an input or another output
     let plots = a.report.as_deref().map(report_plots);

@@ -3,6 +3,9 @@
 
 mod camera;
 pub mod format;
+pub mod overrides;
+
+pub use overrides::{CameraKind, Overrides};
 
 use crate::bvh::{Bvh, BVH_THRESHOLD};
 use crate::camera::{Camera, CameraError};
@@ -203,6 +206,13 @@ fn v3(a: V3) -> DVec3 {
 impl Scene {
     /// Loads and builds a scene file. Paths inside it are relative to it.
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        Scene::load_with(path, &Overrides::default())
+    }
+
+    /// [`Self::load`] with settings of the film and camera overridden (the
+    /// command line's flags), applied to the file as read, before the scene
+    /// is built.
+    pub fn load_with(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
         let name = path.display().to_string();
         let text = lens::io::files::read_bounded(path, lens::io::files::MAX_TEXT_BYTES)
             .map_err(|e| SceneError::Io { path: name.clone(), message: e.reason() })
@@ -214,7 +224,14 @@ impl Scene {
             })?;
         let file: SceneFile = lens::io::json::parse_object(&text, "a scene (docs/scene-format.md)")
             .map_err(|(line, column, message)| SceneError::Json { path: name.clone(), line, column, message })?;
-        let mut scene = Scene::build(file, path.parent().unwrap_or(Path::new(".")), &name)?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let mut file = file;
+        overrides.apply(&mut file, dir).map_err(|(field, message)| SceneError::Invalid {
+            path: name.clone(),
+            field,
+            source: message.into(),
+        })?;
+        let mut scene = Scene::build(file, dir, &name)?;
         scene.inputs.insert(0, path.to_path_buf());
         Ok(scene)
     }

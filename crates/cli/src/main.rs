@@ -34,6 +34,7 @@ mod layout;
 mod outputs;
 mod render;
 mod spot;
+mod study;
 mod validate;
 
 use clap::{Parser, Subcommand};
@@ -74,6 +75,8 @@ enum Command {
     Convergence(convergence::Args),
     /// Render a scene through a pinhole, thin lens or real lens.
     Render(render::Args),
+    /// Render a grid of one scene varying its camera and film settings, labelled.
+    Study(study::Args),
     /// Time the batch ray tracer on one core.
     Bench(bench::Args),
 }
@@ -95,6 +98,7 @@ fn main() -> ExitCode {
         Command::Layout(a) => layout::run(a),
         Command::Convergence(a) => convergence::run(a),
         Command::Render(a) => render::run(a),
+        Command::Study(a) => study::run(a),
         Command::Bench(a) => bench::run(a),
     };
     // what is still buffered must reach its file too

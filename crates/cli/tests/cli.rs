@@ -285,3 +285,50 @@ fn plots_are_written() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `lens study`: a labelled grid, rows and columns changing settings; a bad
+/// setting names its row or column.
+#[test]
+fn a_study_renders_a_labelled_grid() {
+    let d = std::env::temp_dir().join(format!("lens-study-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let scene = root.join("lens-data/scenes/dof-study.json");
+    let study = d.join("s.json");
+    std::fs::write(
+        &study,
+        format!(
+            r#"{{"title": "apertures", "scene": "{}", "set": {{"width": 40, "height": 24, "spp": 2}},
+                "rows": [{{"label": "focus 7 m", "set": {{"focus_distance": 7}}}}],
+                "columns": [{{"label": "0 m", "set": {{"aperture": 0}}}}, {{"label": "0.5 m", "set": {{"aperture": 0.5}}}}]}}"#,
+            scene.display()
+        ),
+    )
+    .unwrap();
+    let out = d.join("m.png");
+    let r = Command::new(env!("CARGO_BIN_EXE_lens"))
+        .args(["study", study.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+    let png = std::fs::read(&out).unwrap();
+    assert_eq!(&png[1..4], b"PNG");
+    // a bad setting is refused naming the column
+    std::fs::write(
+        &study,
+        format!(
+            r#"{{"title": "t", "scene": "{}", "rows": [{{"label": "r"}}],
+                "columns": [{{"label": "c", "set": {{"aperture_shape": "hexagon"}}}}]}}"#,
+            scene.display()
+        ),
+    )
+    .unwrap();
+    let r = Command::new(env!("CARGO_BIN_EXE_lens"))
+        .args(["study", study.to_str().unwrap(), "-o", out.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert_eq!(r.status.code(), Some(1));
+    assert!(err.contains("columns[0].set.aperture_shape"), "{err}");
+    std::fs::remove_dir_all(&d).unwrap();
+}

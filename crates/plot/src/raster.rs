@@ -20,3 +20,16 @@ pub fn svg_to_png(svg: &str) -> Result<Vec<u8>, PlotError> {
     resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
     pixmap.encode_png().map_err(|e| PlotError::Raster(e.to_string()))
 }
+
+/// A band of `width` x `height` pixels, white, with `text` centred in it
+/// in the embedded font at `font_size` px: a label for a montage, as PNG
+/// bytes. The width a label needs is about 0.6 x font size per character.
+pub fn label_png(text: &str, width: u32, height: u32, font_size: f64) -> Result<Vec<u8>, PlotError> {
+    let svg = format!(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}"><text x="{}" y="{}" font-family="{FONT_FAMILY}" font-size="{font_size}" text-anchor="middle" dominant-baseline="central" fill="#222">{}</text></svg>"##,
+        width as f64 / 2.0,
+        height as f64 / 2.0,
+        crate::figure::esc(text)
+    );
+    svg_to_png(&svg)
+}

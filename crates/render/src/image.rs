@@ -60,6 +60,19 @@ impl Image {
         (self.pixels.iter().zip(&other.pixels).map(|(a, b)| (*a - *b).length_squared()).sum::<f64>() / n).sqrt()
     }
 
+    /// The pixels as 8-bit sRGB, row by row: linear values times
+    /// `exposure`, clamped to [0, 1], through the sRGB curve (what a PNG
+    /// holds).
+    pub fn to_srgb8(&self, exposure: f64) -> Vec<u8> {
+        let mut buf = Vec::with_capacity(self.width * self.height * 3);
+        for p in &self.pixels {
+            for c in p.to_array() {
+                buf.push((srgb(c * exposure) * 255.0).round() as u8);
+            }
+        }
+        buf
+    }
+
     /// Writes by extension: `.png` (exposure, clamp, sRGB) or `.exr`.
     pub fn save(&self, path: &Path, exposure: f64) -> Result<(), ImageError> {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
@@ -74,12 +87,7 @@ impl Image {
         match ext.as_deref() {
             #[cfg(feature = "png")]
             Some("png") => {
-                let mut buf = Vec::with_capacity(self.width * self.height * 3);
-                for p in &self.pixels {
-                    for c in p.to_array() {
-                        buf.push((srgb(c * exposure) * 255.0).round() as u8);
-                    }
-                }
+                let buf = self.to_srgb8(exposure);
                 let (w, h) = (self.width as u32, self.height as u32);
                 lens::io::files::write_atomic(path, |out| {
                     image::write_buffer_with_format(out, &buf, w, h, image::ColorType::Rgb8, image::ImageFormat::Png)

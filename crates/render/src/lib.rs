@@ -23,6 +23,7 @@ pub mod report;
 pub mod rng;
 pub mod scene;
 pub mod spectrum;
+pub mod study;
 pub mod transport;
 
 pub use image::Image;

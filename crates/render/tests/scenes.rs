@@ -29,3 +29,16 @@ fn every_shipped_scene_loads() {
     }
     assert!(n >= 28, "{n} scenes");
 }
+
+#[test]
+fn every_shipped_study_loads() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/studies");
+    let mut n = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let s = render::study::Study::load(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(s.cells.len(), s.rows.len() * s.columns.len());
+        n += 1;
+    }
+    assert!(n >= 5, "{n} studies");
+}

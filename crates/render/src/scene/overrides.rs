@@ -152,6 +152,10 @@ impl Overrides {
                 }
                 if let Some(p) = &self.prescription {
                     *prescription = absolute(p).display().to_string();
+                    // the scene's stop setting was for its own lens: the new
+                    // one keeps its own unless --f-number is given
+                    *f_number = None;
+                    *stop_semi_diameter = None;
                 }
                 if let Some(n) = self.f_number {
                     *f_number = Some(n);

@@ -68,14 +68,14 @@ pub fn run(a: Args) -> CmdResult {
     for (r, label) in study.rows.iter().enumerate() {
         paste(&mut canvas, plot::raster::label_png(label, row_label_w, row_h[r], LABEL.0)?, 0, y)?;
         let mut x = row_label_w + GAP;
-        for c in 0..nc {
+        for (c, w) in col_w.iter().enumerate() {
             let k = r * nc + c;
             let img = &images[k];
             let px = img.to_srgb8(study.cells[k].film.exposure);
             let cell = image::RgbImage::from_raw(img.width as u32, img.height as u32, px)
                 .ok_or("a cell's image has the wrong size")?;
             image::imageops::overlay(&mut canvas, &cell, x as i64, y as i64);
-            x += col_w[c] + GAP;
+            x += w + GAP;
         }
         y += row_h[r] + GAP;
     }

@@ -50,9 +50,17 @@ pub fn chromatic_chart(c: &Chromatic, name: &str) -> String {
     let mut series = vec![Series::new("", shift, "#222", Style::Line)];
     series.extend(marks);
     panels.push(Panel {
-        title: format!("focal shift (axial colour {:+.1} um)", c.axial_colour * 1e3),
+        // (a shift that rounds to zero is written 0.0, not -0.0)
+        title: format!("focal shift (axial colour {:+.1} µm)", {
+            let v = c.axial_colour * 1e3;
+            if v.abs() < 0.05 {
+                0.0
+            } else {
+                v
+            }
+        }),
         x_label: "wavelength (nm)".into(),
-        y_label: "focal shift (um)".into(),
+        y_label: "focal shift (µm)".into(),
         series,
         ..Panel::default()
     });
@@ -62,7 +70,7 @@ pub fn chromatic_chart(c: &Chromatic, name: &str) -> String {
     panels.push(Panel {
         title: format!("lateral colour ({s} nm minus {l} nm)"),
         x_label: "field (deg)".into(),
-        y_label: "lateral colour (um)".into(),
+        y_label: "lateral colour (µm)".into(),
         series: vec![Series::new("", lat, "#222", Style::Line)],
         ..Panel::default()
     });
@@ -78,9 +86,9 @@ pub fn chromatic_chart(c: &Chromatic, name: &str) -> String {
         })
         .collect();
     panels.push(Panel {
-        title: format!("spot at {} deg: RMS {:.2} um", c.spot.field_deg, c.spot.rms_radius * 1e3),
-        x_label: "x - centroid (um)".into(),
-        y_label: "y - centroid (um)".into(),
+        title: format!("spot at {} deg: RMS {:.2} µm", c.spot.field_deg, c.spot.rms_radius * 1e3),
+        x_label: "x - centroid (µm)".into(),
+        y_label: "y - centroid (µm)".into(),
         series: spot,
         equal_aspect: true,
         ..Panel::default()
@@ -103,7 +111,7 @@ pub fn chromatic_chart(c: &Chromatic, name: &str) -> String {
     panels.push(Panel {
         title: format!("tangential fans at {} deg", c.spot.field_deg),
         x_label: "py (normalised pupil)".into(),
-        y_label: "y - primary chief (um)".into(),
+        y_label: "y - primary chief (µm)".into(),
         series: fans,
         x_range: Some((-1.05, 1.05)),
         ..Panel::default()

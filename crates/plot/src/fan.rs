@@ -15,7 +15,7 @@ pub fn fan_chart(fans: &[RayFan], name: &str) -> String {
         panels.push(Panel {
             title: format!("tangential, {field}"),
             x_label: "py (normalised pupil)".into(),
-            y_label: "ey (um)".into(),
+            y_label: "ey (µm)".into(),
             series: vec![Series { label: String::new(), points: t, color: color.into(), style: Style::Line }],
             x_range: Some((-1.05, 1.05)),
             ..Panel::default()
@@ -23,7 +23,7 @@ pub fn fan_chart(fans: &[RayFan], name: &str) -> String {
         panels.push(Panel {
             title: format!("sagittal, {field}"),
             x_label: "px (normalised pupil)".into(),
-            y_label: "ex (um)".into(),
+            y_label: "ex (µm)".into(),
             series: vec![Series { label: String::new(), points: s, color: color.into(), style: Style::Line }],
             x_range: Some((-1.05, 1.05)),
             ..Panel::default()

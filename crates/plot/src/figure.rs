@@ -89,6 +89,48 @@ pub struct Figure {
 
 const MARGIN: (f64, f64, f64, f64) = (70.0, 20.0, 40.0, 55.0); // left, right, top, bottom
 const TITLE_H: f64 = 36.0;
+/// The legend's first line, below the plot's bottom edge (under the axis
+/// label), and its line height, pixels.
+const LEGEND_TOP: f64 = 50.0;
+const LEGEND_LINE: f64 = 15.0;
+
+/// A panel's legend entries: label, colour, drawn as a dot.
+fn legend_entries(panel: &Panel) -> Vec<(&str, &str, bool)> {
+    panel
+        .series
+        .iter()
+        .filter(|x| !x.label.is_empty())
+        .map(|x| (x.label.as_str(), x.color.as_str(), matches!(x.style, Style::Dots(_))))
+        .chain(
+            panel.circles.iter().filter(|c| !c.label.is_empty()).map(|c| (c.label.as_str(), c.color.as_str(), false)),
+        )
+        .collect()
+}
+
+/// The width an entry takes in the legend's flow, pixels (11 px text).
+fn legend_width(label: &str) -> f64 {
+    34.0 + 6.0 * label.chars().count() as f64
+}
+
+/// The height the legend adds below a panel whose plot is `width` wide:
+/// entries flow left to right, a new line when one would pass the plot's
+/// right edge.
+fn legend_height(panel: &Panel, width: f64) -> f64 {
+    let entries = legend_entries(panel);
+    if entries.is_empty() {
+        return 0.0;
+    }
+    let (mut lines, mut x) = (1.0, 0.0);
+    for (label, _, _) in entries {
+        let wide = legend_width(label);
+        if x > 0.0 && x + wide > width {
+            lines += 1.0;
+            x = 0.0;
+        }
+        x += wide;
+    }
+    lines * LEGEND_LINE + 4.0
+}
 
 impl Figure {
     /// The SVG document.
@@ -97,7 +139,13 @@ impl Figure {
         let rows = self.panels.len().div_ceil(cols).max(1);
         let (pw, ph) = self.panel_size;
         let w = cols as f64 * pw;
-        let h = TITLE_H + rows as f64 * ph;
+        // each row of panels grows by its tallest legend (drawn below the
+        // plots, outside the data)
+        let plot_w = pw - MARGIN.0 - MARGIN.1;
+        let extra: Vec<f64> = (0..rows)
+            .map(|r| self.panels.iter().skip(r * cols).take(cols).map(|p| legend_height(p, plot_w)).fold(0.0, f64::max))
+            .collect();
+        let h = TITLE_H + rows as f64 * ph + extra.iter().sum::<f64>();
         let mut s = String::new();
         let _ = write!(
             s,
@@ -112,7 +160,8 @@ impl Figure {
         );
         for (k, panel) in self.panels.iter().enumerate() {
             let (c, r) = (k % cols, k / cols);
-            panel_svg(&mut s, panel, c as f64 * pw, TITLE_H + r as f64 * ph, pw, ph);
+            let y = TITLE_H + r as f64 * ph + extra[..r].iter().sum::<f64>();
+            panel_svg(&mut s, panel, c as f64 * pw, y, pw, ph + extra[r]);
         }
         s.push_str("</svg>\n");
         s
@@ -206,7 +255,8 @@ fn data_range(panel: &Panel) -> ((f64, f64), (f64, f64)) {
 pub fn panel_svg(s: &mut String, panel: &Panel, x: f64, y: f64, w: f64, h: f64) -> Mapping {
     let (mut xr, mut yr) = data_range(panel);
     let (left, top) = (x + MARGIN.0, y + MARGIN.2);
-    let (width, height) = (w - MARGIN.0 - MARGIN.1, h - MARGIN.2 - MARGIN.3);
+    let width = w - MARGIN.0 - MARGIN.1;
+    let height = h - MARGIN.2 - MARGIN.3 - legend_height(panel, width);
     if panel.equal_aspect {
         // widen the tighter axis so one data unit is the same on both
         let sx = width / (xr.1 - xr.0);
@@ -303,19 +353,15 @@ pub fn panel_svg(s: &mut String, panel: &Panel, x: f64, y: f64, w: f64, h: f64) 
         series_svg(s, se, &m);
     }
     s.push_str("</g>");
-    // legend
-    let mut ly = top + 14.0;
-    let entries: Vec<(&str, &str, bool)> = panel
-        .series
-        .iter()
-        .filter(|x| !x.label.is_empty())
-        .map(|x| (x.label.as_str(), x.color.as_str(), matches!(x.style, Style::Dots(_))))
-        .chain(
-            panel.circles.iter().filter(|c| !c.label.is_empty()).map(|c| (c.label.as_str(), c.color.as_str(), false)),
-        )
-        .collect();
-    for (label, color, dot) in entries {
-        let lx = left + 8.0;
+    // legend, below the axis label: outside the data
+    let mut lx = left;
+    let mut ly = top + height + LEGEND_TOP;
+    for (label, color, dot) in legend_entries(panel) {
+        let wide = legend_width(label);
+        if lx > left && lx + wide > left + width {
+            lx = left;
+            ly += LEGEND_LINE;
+        }
         if dot {
             let _ = write!(s, r#"<circle cx="{}" cy="{}" r="3" fill="{color}"/>"#, lx + 9.0, ly - 4.0);
         } else {
@@ -328,7 +374,7 @@ pub fn panel_svg(s: &mut String, panel: &Panel, x: f64, y: f64, w: f64, h: f64) 
             );
         }
         let _ = write!(s, r#"<text x="{}" y="{ly}" font-size="11">{}</text>"#, lx + 24.0, esc(label));
-        ly += 15.0;
+        lx += wide;
     }
     m
 }

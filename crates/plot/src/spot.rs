@@ -37,9 +37,9 @@ pub fn spot_chart(spots: &[SpotDiagram], name: &str) -> String {
             let drawn = if every > 1 { format!(", 1 in {every} drawn") } else { String::new() };
             let field = s.field_deg.map_or("finite object".to_string(), |d| format!("{d} deg"));
             Panel {
-                title: format!("{field}: RMS {:.2} um, GEO {:.2} um", s.rms_radius * 1e3, s.geo_radius * 1e3),
-                x_label: "x - chief (um)".into(),
-                y_label: "y - chief (um)".into(),
+                title: format!("{field}: RMS {:.2} µm, GEO {:.2} µm", s.rms_radius * 1e3, s.geo_radius * 1e3),
+                x_label: "x - chief (µm)".into(),
+                y_label: "y - chief (µm)".into(),
                 series: vec![Series::new(
                     format!("{} rays, {} vignetted{drawn}", s.rays, s.vignetted),
                     pts,
@@ -50,7 +50,7 @@ pub fn spot_chart(spots: &[SpotDiagram], name: &str) -> String {
                     center: (0.0, 0.0),
                     radius: s.airy_radius * 1e3,
                     color: "#222".into(),
-                    label: format!("Airy radius {:.2} um", s.airy_radius * 1e3),
+                    label: format!("Airy radius {:.2} µm", s.airy_radius * 1e3),
                 }],
                 equal_aspect: true,
                 ..Panel::default()

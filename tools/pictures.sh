@@ -17,4 +17,9 @@ $lens study lens-data/studies/focus-shift.json -o $out/focus-shift.png
 $lens study lens-data/studies/real-lenses.json -o $out/dof-real-lenses.png
 $lens study lens-data/studies/aperture-shapes.json -o $out/bokeh-chart.png
 $lens render lens-data/scenes/bokeh-thin-star.json -o $out/bokeh-star.png
+# the portrait at 960 x 540 a cell, kept as JPEG (a noisy photograph)
+tmp=$(mktemp -d)
+$lens study lens-data/studies/portrait.json -o "$tmp/portrait.png"
+python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).convert('RGB').save(sys.argv[2], quality=88)" "$tmp/portrait.png" $out/portrait.jpg
+rm -r "$tmp"
 python3 tools/spectral_pictures.py

@@ -204,6 +204,12 @@ impl Overrides {
             }
         };
         let fov_deg = fov.unwrap_or(40.0);
+        let shape = match c {
+            CameraSpec::ThinLens { aperture_shape, .. } | CameraSpec::Lens { aperture_shape, .. } => {
+                aperture_shape.clone()
+            }
+            CameraSpec::Pinhole { .. } => ApertureSpec::Circle,
+        };
         Ok(match kind {
             CameraKind::Pinhole => CameraSpec::Pinhole { position, look_at, up, fov_deg },
             CameraKind::ThinLens => CameraSpec::ThinLens {
@@ -215,12 +221,7 @@ impl Overrides {
                 f_number: fno.filter(|_| focal.is_some()),
                 focal_length_mm: focal,
                 focus_distance: self.focus_distance.or(focus).unwrap_or(3.0),
-                aperture_shape: match c {
-                    CameraSpec::ThinLens { aperture_shape, .. } | CameraSpec::Lens { aperture_shape, .. } => {
-                        aperture_shape.clone()
-                    }
-                    CameraSpec::Pinhole { .. } => ApertureSpec::Circle,
-                },
+                aperture_shape: shape.clone(),
                 focus_shift: 0.0,
                 glass: None,
             },
@@ -252,12 +253,7 @@ impl Overrides {
                     stop_semi_diameter: None,
                     focus_distance: self.focus_distance.or(focus).unwrap_or(3.0),
                     sensor_mm: [h * aspect, h],
-                    aperture_shape: match c {
-                        CameraSpec::ThinLens { aperture_shape, .. } | CameraSpec::Lens { aperture_shape, .. } => {
-                            aperture_shape.clone()
-                        }
-                        CameraSpec::Pinhole { .. } => ApertureSpec::Circle,
-                    },
+                    aperture_shape: shape.clone(),
                 }
             }
         })

@@ -1,6 +1,8 @@
 //! A unidirectional path tracer with direct light sampling (next event
-//! estimation) on diffuse surfaces and Russian roulette, written once over
-//! [`Transport`]: RGB channels or a path's wavelengths.
+//! estimation) on diffuse surfaces, combined with the emitters that BSDF
+//! sampling finds by multiple importance sampling (Veach's power heuristic),
+//! and Russian roulette; written once over [`Transport`]: RGB channels or a
+//! path's wavelengths.
 
 use crate::geometry::{Ray, EPS};
 use crate::light::sample_shape;
@@ -21,8 +23,9 @@ pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sa
     let mut l = T::Value::ZERO;
     let mut beta = T::Value::ONE;
     // emission seen directly or through specular bounces is counted on hit;
-    // after a diffuse bounce it was already counted by light sampling
-    let mut count_emission = true;
+    // after a diffuse bounce, from the point and with the BSDF sample's
+    // density (solid angle) kept here, it is weighted against light sampling
+    let mut after_diffuse: Option<(DVec3, f64)> = None;
     for depth in 0..MAX_DEPTH {
         let scale = 1.0 + ray.origin.abs().max_element();
         let Some((prim, h)) = scene.intersect(&ray, EPS * scale, f64::INFINITY) else {
@@ -33,8 +36,13 @@ pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sa
         if let Material::Emissive { .. } = mat {
             // emitters that light sampling cannot pick (infinite planes) are
             // counted whenever a path finds them
-            if count_emission || !scene.light_sampled(prim) {
-                l += beta * mat.emitted(t, -ray.dir.dot(h.n));
+            let le = mat.emitted(t, -ray.dir.dot(h.n));
+            match after_diffuse {
+                Some((from, pdf_bsdf)) if scene.light_sampled(prim) => {
+                    let pdf_light = light_pdf(scene, prim, from, h.p, h.n);
+                    l += beta * le * power_heuristic(pdf_bsdf, pdf_light);
+                }
+                _ => l += beta * le,
             }
             break;
         }
@@ -50,13 +58,13 @@ pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sa
                 // cosine sampling: cos / pdf = pi cancels the 1/pi of Lambert
                 beta *= albedo;
                 ray = Ray { origin: above, dir: d };
-                count_emission = false;
+                after_diffuse = Some((above, d.dot(ns).max(0.0) / std::f64::consts::PI));
             }
             Scatter::Specular(d, w) => {
                 beta *= w;
                 let side = if d.dot(h.n) > 0.0 { h.n } else { -h.n };
                 ray = Ray { origin: h.p + side * (EPS * p_scale * 10.0), dir: d };
-                count_emission = true;
+                after_diffuse = None;
             }
         }
         if depth >= RR_DEPTH {
@@ -96,9 +104,39 @@ fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sample
             if cos > 0.0 && cos_l > 0.0 && scene.visible(p, q) {
                 let le = scene.materials[scene.material_of[prim]].emitted(t, cos_l);
                 let pdf = pdf_area / scene.emitters.len() as f64;
-                e += le * (cos * cos_l / (dist2 * pdf));
+                // against the chance that cosine sampling of the BSDF finds
+                // the same point, both densities in solid angle
+                let w = power_heuristic(pdf * dist2 / cos_l, cos / std::f64::consts::PI);
+                e += le * (cos * cos_l / (dist2 * pdf) * w);
             }
         }
     }
     e
+}
+
+/// The power heuristic (exponent 2) weight of a sample drawn with density
+/// `a` against another technique of density `b`.
+fn power_heuristic(a: f64, b: f64) -> f64 {
+    let (a2, b2) = (a * a, b * b);
+    if a2 + b2 > 0.0 && (a2 + b2).is_finite() {
+        a2 / (a2 + b2)
+    } else if a.is_infinite() {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// The density (per solid angle at `from`) with which [`direct`] draws the
+/// point `q` (normal `nq`) of emitter `prim`: the emitter's share times its
+/// uniform area density, turned into solid angle.
+fn light_pdf(scene: &Scene, prim: usize, from: DVec3, q: DVec3, nq: DVec3) -> f64 {
+    let d = q - from;
+    let dist2 = d.length_squared();
+    let cos_l = (nq.dot(d) / dist2.sqrt()).abs();
+    let area = scene.shapes[prim].area();
+    if !(cos_l > 0.0 && area > 0.0) {
+        return f64::INFINITY;
+    }
+    dist2 / (cos_l * area * scene.emitters.len() as f64)
 }

@@ -251,3 +251,28 @@ fn an_emissive_plane_lights_diffuse_surfaces_through_bounces() {
         assert!((p.x - 0.5).abs() < 1e-9, "{p}");
     }
 }
+
+/// A grey floor inside a box whose other five faces all emit: the floor
+/// sees light over its whole hemisphere, so its radiance is albedo times
+/// the walls' radiance exactly. Light sampling and the emitters that BSDF
+/// sampling finds are weighted against each other (MIS); the weights must
+/// sum to one, or the floor comes out too dark or too bright.
+#[test]
+fn light_sampling_and_bsdf_sampling_add_up_to_the_emitted_light() {
+    let s = scene(
+        r#"{"camera": {"type": "pinhole", "position": [0, 0.9, 0], "look_at": [0, 0, 0.01], "fov_deg": 40},
+            "film": {"width": 24, "height": 24, "spp": 64},
+            "materials": {"floor": {"type": "diffuse", "color": [0.5, 0.5, 0.5]},
+                          "wall": {"type": "emissive", "radiance": [2, 2, 2]}},
+            "shapes": [
+              {"type": "quad", "corner": [-1, 0, -1], "u": [0, 0, 2], "v": [2, 0, 0], "material": "floor"},
+              {"type": "quad", "corner": [-1, 1, -1], "u": [2, 0, 0], "v": [0, 0, 2], "material": "wall"},
+              {"type": "quad", "corner": [-1, 0, -1], "u": [0, 1, 0], "v": [0, 0, 2], "material": "wall"},
+              {"type": "quad", "corner": [1, 0, -1], "u": [0, 0, 2], "v": [0, 1, 0], "material": "wall"},
+              {"type": "quad", "corner": [-1, 0, -1], "u": [2, 0, 0], "v": [0, 1, 0], "material": "wall"},
+              {"type": "quad", "corner": [-1, 0, 1], "u": [0, 1, 0], "v": [2, 0, 0], "material": "wall"}]}"#,
+    );
+    let (img, _) = render(&s, Options { spp: 256, seed: 9 }, &|_| {});
+    let mean = img.pixels.iter().map(|p| p.x).sum::<f64>() / img.pixels.len() as f64;
+    assert!((mean - 1.0).abs() < 0.01, "floor radiance {mean}, expected 0.5 x 2 = 1");
+}

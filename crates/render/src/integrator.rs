@@ -80,7 +80,7 @@ pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sa
 
 /// Direct light at a diffuse point `p` with normal `n` (irradiance times pi:
 /// the caller multiplies by albedo / pi): point lights, and one emissive
-/// shape chosen uniformly, sampled by area.
+/// shape chosen in proportion to its power, sampled by area.
 fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sampler) -> T::Value {
     let mut e = T::Value::ZERO;
     for (lp, intensity) in &scene.point_lights {
@@ -92,9 +92,7 @@ fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sample
             e += t.radiance(intensity) * (cos / dist2);
         }
     }
-    if !scene.emitters.is_empty() {
-        let k = ((s.uniform() * scene.emitters.len() as f64) as usize).min(scene.emitters.len() - 1);
-        let prim = scene.emitters[k];
+    if let Some((prim, chosen)) = scene.choose_emitter(s.uniform()) {
         if let Some((q, nq, pdf_area)) = sample_shape(&scene.shapes[prim], s) {
             let d = q - p;
             let dist2 = d.length_squared();
@@ -103,7 +101,7 @@ fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sample
             let cos_l = -nq.dot(dir);
             if cos > 0.0 && cos_l > 0.0 && scene.visible(p, q) {
                 let le = scene.materials[scene.material_of[prim]].emitted(t, cos_l);
-                let pdf = pdf_area / scene.emitters.len() as f64;
+                let pdf = pdf_area * chosen;
                 // against the chance that cosine sampling of the BSDF finds
                 // the same point, both densities in solid angle
                 let w = power_heuristic(pdf * dist2 / cos_l, cos / std::f64::consts::PI);
@@ -128,8 +126,8 @@ fn power_heuristic(a: f64, b: f64) -> f64 {
 }
 
 /// The density (per solid angle at `from`) with which [`direct`] draws the
-/// point `q` (normal `nq`) of emitter `prim`: the emitter's share times its
-/// uniform area density, turned into solid angle.
+/// point `q` (normal `nq`) of emitter `prim`: the probability of choosing
+/// it times its uniform area density, turned into solid angle.
 fn light_pdf(scene: &Scene, prim: usize, from: DVec3, q: DVec3, nq: DVec3) -> f64 {
     let d = q - from;
     let dist2 = d.length_squared();
@@ -138,5 +136,5 @@ fn light_pdf(scene: &Scene, prim: usize, from: DVec3, q: DVec3, nq: DVec3) -> f6
     if !(cos_l > 0.0 && area > 0.0) {
         return f64::INFINITY;
     }
-    dist2 / (cos_l * area * scene.emitters.len() as f64)
+    dist2 * scene.emitter_probability(prim) / (cos_l * area)
 }

@@ -180,6 +180,10 @@ pub struct Scene {
     pub materials: Vec<Material>,
     /// Primitives with an emissive material (area lights), bounded ones.
     pub emitters: Vec<usize>,
+    /// Cumulative probabilities of choosing each emitter for light
+    /// sampling, in proportion to its power (luminance of its radiance
+    /// times its area), the last 1.
+    pub emitter_cdf: Vec<f64>,
     /// Point lights: position, intensity.
     pub point_lights: Vec<(DVec3, Radiance)>,
     /// Background.
@@ -418,9 +422,10 @@ impl Scene {
                 }
             }
         }
-        let emitters = (0..shapes.len())
+        let emitters: Vec<usize> = (0..shapes.len())
             .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }) && shapes[i].area().is_finite())
             .collect();
+        let emitter_cdf = emitter_cdf(&emitters, &shapes, &materials, &material_of);
         let mut point_lights = Vec::new();
         for (i, l) in file.lights.iter().enumerate() {
             let LightSpec::Point { position, intensity } = l;
@@ -473,6 +478,7 @@ impl Scene {
             shapes,
             material_of,
             materials,
+            emitter_cdf,
             emitters,
             point_lights,
             background,
@@ -511,6 +517,23 @@ impl Scene {
         best
     }
 
+    /// The probability that light sampling picks emitter `prim` (0 when it
+    /// is not one).
+    pub fn emitter_probability(&self, prim: usize) -> f64 {
+        match self.emitters.binary_search(&prim) {
+            Ok(k) => self.emitter_cdf[k] - if k == 0 { 0.0 } else { self.emitter_cdf[k - 1] },
+            Err(_) => 0.0,
+        }
+    }
+
+    /// An emitter chosen in proportion to its power from the uniform `u`,
+    /// and the probability of that choice.
+    pub fn choose_emitter(&self, u: f64) -> Option<(usize, f64)> {
+        let k = self.emitter_cdf.partition_point(|c| *c <= u).min(self.emitters.len().checked_sub(1)?);
+        let p = self.emitter_cdf[k] - if k == 0 { 0.0 } else { self.emitter_cdf[k - 1] };
+        Some((self.emitters[k], p))
+    }
+
     /// Whether primitive `i` is an area light that direct light sampling
     /// picks (bounded and emissive).
     pub fn light_sampled(&self, i: usize) -> bool {
@@ -524,6 +547,38 @@ impl Scene {
         let r = Ray { origin: a, dir: d / len };
         self.intersect(&r, crate::geometry::EPS * (1.0 + a.abs().max_element()), len * (1.0 - 1e-7)).is_none()
     }
+}
+
+/// Light sampling's choice of emitter: in proportion to power (the
+/// luminance of its radiance times its area), so a sun is picked far more
+/// often than a candle; every emitter keeps at least a 1% share of a uniform
+/// choice so none is starved.
+fn emitter_cdf(emitters: &[usize], shapes: &[Shape], materials: &[Material], material_of: &[usize]) -> Vec<f64> {
+    let power: Vec<f64> = emitters
+        .iter()
+        .map(|&i| match &materials[material_of[i]] {
+            Material::Emissive { radiance } => {
+                let rgb = radiance.to_rgb();
+                (0.2126 * rgb.x + 0.7152 * rgb.y + 0.0722 * rgb.z).max(0.0) * shapes[i].area()
+            }
+            _ => 0.0,
+        })
+        .collect();
+    let total: f64 = power.iter().sum();
+    let n = emitters.len() as f64;
+    let mut acc = 0.0;
+    let mut cdf: Vec<f64> = power
+        .iter()
+        .map(|p| {
+            let share = if total > 0.0 && total.is_finite() { 0.99 * p / total + 0.01 / n } else { 1.0 / n };
+            acc += share;
+            acc
+        })
+        .collect();
+    if let Some(last) = cdf.last_mut() {
+        *last = 1.0;
+    }
+    cdf
 }
 
 /// The files a scene file names, resolved against `dir`.

@@ -276,3 +276,50 @@ fn light_sampling_and_bsdf_sampling_add_up_to_the_emitted_light() {
     let mean = img.pixels.iter().map(|p| p.x).sum::<f64>() / img.pixels.len() as f64;
     assert!((mean - 1.0).abs() < 0.01, "floor radiance {mean}, expected 0.5 x 2 = 1");
 }
+
+/// Aiming a share of a thin lens's samples at the lamps changes the noise,
+/// not the picture: defocused lamps through a wide aperture come out with
+/// the same light, disc by disc, as with uniform aperture samples only (a
+/// focus shift of 1e-12, which no picture can show, turns aiming off).
+#[test]
+fn aiming_at_lamps_through_the_aperture_is_unbiased() {
+    let json = |shift: f64| {
+        format!(
+            r#"{{"camera": {{"type": "thin_lens", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 30,
+                             "aperture": 0.3, "focus_distance": 3, "focus_shift": {shift}}},
+                "film": {{"width": 48, "height": 32, "spp": 16}},
+                "background": {{"type": "constant", "radiance": [0.01, 0.01, 0.01]}},
+                "materials": {{"lamp": {{"type": "emissive", "radiance": [50, 40, 30]}}}},
+                "shapes": [{{"type": "sphere", "center": [-1, 0.3, 12], "radius": 0.08, "material": "lamp"}},
+                           {{"type": "sphere", "center": [1.2, -0.4, 9], "radius": 0.05, "material": "lamp"}},
+                           {{"type": "sphere", "center": [0.2, 0.2, 1.5], "radius": 0.02, "material": "lamp"}}]}}"#
+        )
+    };
+    let aimed = scene(&json(0.0));
+    let plain = scene(&json(1e-12));
+    let render::camera::Camera::ThinLens { lamps, .. } = &aimed.camera else { panic!() };
+    assert!(lamps.share > 0.0, "aiming is on");
+    let render::camera::Camera::ThinLens { lamps, .. } = &plain.camera else { panic!() };
+    assert_eq!(lamps.share, 0.0, "aiming is off");
+    let (a, _) = render(&aimed, Options { spp: 256, seed: 1 }, &|_| {});
+    let (b, _) = render(&plain, Options { spp: 4096, seed: 2 }, &|_| {});
+    let total = |img: &Image| img.pixels.iter().map(|p| p.x).sum::<f64>();
+    let (ta, tb) = (total(&a), total(&b));
+    assert!((ta / tb - 1.0).abs() < 0.02, "total light: aimed {ta:.2}, uniform {tb:.2}");
+    // and quadrant by quadrant (each lamp's disc in its own)
+    let quadrant = |img: &Image, qx: usize, qy: usize| {
+        let mut s = 0.0;
+        for y in qy * 16..qy * 16 + 16 {
+            for x in qx * 24..qx * 24 + 24 {
+                s += img.pixels[y * 48 + x].x;
+            }
+        }
+        s
+    };
+    for qy in 0..2 {
+        for qx in 0..2 {
+            let (qa, qb) = (quadrant(&a, qx, qy), quadrant(&b, qx, qy));
+            assert!((qa - qb).abs() <= 0.03 * qb.max(0.05 * tb), "quadrant {qx},{qy}: {qa:.2} vs {qb:.2}");
+        }
+    }
+}

@@ -142,6 +142,19 @@ impl Aperture {
         }
     }
 
+    /// The area of the shape on the unit aperture (π for the disc; a
+    /// mask's is its transmission's integral over the square).
+    pub fn unit_area(&self) -> f64 {
+        match self {
+            Aperture::Circle => std::f64::consts::PI,
+            Aperture::Polygon { blades, .. } => {
+                let n = *blades as f64;
+                0.5 * n * (std::f64::consts::TAU / n).sin()
+            }
+            Aperture::Mask(_) => 4.0,
+        }
+    }
+
     /// Whether a point (unit scale) lies inside the shape.
     pub fn contains(&self, x: f64, y: f64) -> bool {
         match *self {

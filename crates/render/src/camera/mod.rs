@@ -82,6 +82,109 @@ impl SpectralLane {
     pub const BLOCKED: SpectralLane = SpectralLane { film: (f64::NAN, f64::NAN), transmission: 0.0, density: 0.0 };
 }
 
+/// Camera-side sampling of small lamps through a thin lens's aperture: a
+/// lamp behind or in front of the plane in focus is seen from a film point
+/// through a small patch of the aperture (the lamp's cone from the point of
+/// the plane in focus that the film point sees, cut by the lens plane);
+/// uniform aperture samples rarely land there, so a defocused lamp comes
+/// out as speckles. A share of the samples is drawn in those cones instead,
+/// and every sample is weighted by the balance heuristic over the mixture
+/// of both ways of drawing, so the estimate stays unbiased.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LampAim {
+    /// Centre and radius of each lamp, m.
+    pub lamps: Vec<(DVec3, f64)>,
+    /// The share of samples aimed at lamps (0: off).
+    pub share: f64,
+}
+
+/// The most lamps aimed at.
+pub const MAX_AIMED_LAMPS: usize = 64;
+
+impl LampAim {
+    /// Lamp aiming for a thin lens with `aperture` and `focus_shift`: on
+    /// for round and polygonal apertures without focus shift.
+    pub fn new(lamps: Vec<(DVec3, f64)>, aperture: &Aperture, focus_shift: f64) -> Self {
+        let usable = matches!(aperture, Aperture::Circle | Aperture::Polygon { .. })
+            && focus_shift == 0.0
+            && !lamps.is_empty()
+            && lamps.len() <= MAX_AIMED_LAMPS;
+        if usable {
+            LampAim { lamps, share: 0.5 }
+        } else {
+            LampAim::default()
+        }
+    }
+
+    /// The lamps that can be seen from the plane-in-focus point `p` through
+    /// the lens (centre `origin`, axis `forward`, radius `radius`): those
+    /// whose cone from `p` meets the cone from `p` to the lens's bounding
+    /// disc (on either side of `p`). Only they are aimed at from `p`.
+    fn visible(&self, p: DVec3, origin: DVec3, radius: f64) -> ([u8; MAX_AIMED_LAMPS], usize) {
+        let mut out = [0u8; MAX_AIMED_LAMPS];
+        let mut n = 0;
+        let to_lens = origin - p;
+        let lens_dist = to_lens.length();
+        if lens_dist <= radius {
+            // p at the lens: every lamp
+            for (k, o) in out.iter_mut().enumerate().take(self.lamps.len()) {
+                *o = k as u8;
+            }
+            return (out, self.lamps.len());
+        }
+        let lens_axis = to_lens / lens_dist;
+        // sine and cosine of the lens's half angle from p
+        let (sl, cl) = (radius / lens_dist, (1.0 - (radius / lens_dist).powi(2)).max(0.0).sqrt());
+        for (k, &(c, r)) in self.lamps.iter().enumerate() {
+            let axis = c - p;
+            let d = axis.length();
+            if d <= r {
+                continue;
+            }
+            let (sh, ch) = (r / d, (1.0 - (r / d) * (r / d)).max(0.0).sqrt());
+            // the lines' angle is within the two half angles: compare
+            // cosines, cos(h + l) = cos h cos l - sin h sin l (h + l < pi)
+            let cos = (axis.dot(lens_axis) / d).abs();
+            if cos >= ch * cl - sh * sl {
+                out[n] = k as u8;
+                n += 1;
+            }
+        }
+        (out, n)
+    }
+
+    /// The density (per lens-plane area, m^-2) with which lamp aiming draws
+    /// the lens point `a` for the plane-in-focus point `p`, aiming at the
+    /// lamps `which`: the mean over them of the uniform cone density
+    /// turned into area.
+    fn density(&self, p: DVec3, a: DVec3, forward: DVec3, which: &[u8]) -> f64 {
+        let to_a = a - p;
+        let dist2 = to_a.length_squared();
+        if dist2 <= 0.0 {
+            return 0.0;
+        }
+        let dir = to_a / dist2.sqrt();
+        let cos_plane = dir.dot(forward).abs();
+        let mut sum = 0.0;
+        for &k in which {
+            let (c, r) = self.lamps[k as usize];
+            let axis = c - p;
+            let d = axis.length();
+            if d <= r {
+                continue;
+            }
+            let cos_max = (1.0 - (r / d) * (r / d)).max(0.0).sqrt();
+            // the line through p and a meets the lamp on either side of p
+            let cos = dir.dot(axis) / d;
+            if cos.abs() >= cos_max {
+                let solid = std::f64::consts::TAU * (1.0 - cos_max);
+                sum += cos_plane / (dist2 * solid);
+            }
+        }
+        sum / which.len() as f64
+    }
+}
+
 /// A thin lens's glass: its focal length at each wavelength from the
 /// glass's dispersion (thin-lens lensmaker: f(λ) (n(λ) - 1) is constant),
 /// with the film where the d line focuses.
@@ -159,6 +262,10 @@ pub enum Camera {
         focus_shift: f64,
         /// A glass: focus follows the wavelength.
         glass: Option<ThinGlass>,
+        /// Small emissive spheres (centre, radius, m) that half of the
+        /// samples aim at through the aperture (empty: none; see
+        /// [`LampAim`]).
+        lamps: LampAim,
     },
     /// Real lens.
     Real(Box<real_lens::RealLensCamera>),
@@ -197,10 +304,13 @@ impl Camera {
                 let d = pinhole_dir(frame, *tan_half, *aspect, u, v);
                 Some((Ray { origin: frame.origin, dir: d }, 1.0))
             }
-            Camera::ThinLens { frame, tan_half, aspect, radius, focus, aperture, focus_shift, glass } => {
+            Camera::ThinLens { frame, tan_half, aspect, radius, focus, aperture, focus_shift, glass, lamps } => {
                 let d = pinhole_dir(frame, *tan_half, *aspect, u, v);
                 if *radius == 0.0 {
                     return Some((Ray { origin: frame.origin, dir: d }, 1.0));
+                }
+                if lamps.share > 0.0 && glass.is_none() {
+                    return thin_lens_aimed(frame, d, *radius, *focus, aperture, lamps, a);
                 }
                 let (ax, ay) = aperture.sample(a);
                 let rho = (ax * ax + ay * ay).sqrt();
@@ -280,6 +390,66 @@ impl Camera {
             }
         }
     }
+}
+
+/// A thin-lens ray drawn from the mixture of uniform aperture sampling and
+/// lamp aiming (`lamps.share` of the samples, the first uniform choosing),
+/// weighted by the uniform density over the mixture's (the balance
+/// heuristic): `d` is the central ray's direction, the plane in focus
+/// `focus` m away.
+fn thin_lens_aimed(
+    frame: &Frame,
+    d: DVec3,
+    radius: f64,
+    focus: f64,
+    aperture: &Aperture,
+    lamps: &LampAim,
+    a: (f64, f64),
+) -> Option<(Ray, f64)> {
+    let p = frame.origin + d * (focus / d.dot(frame.forward));
+    let (which, n) = lamps.visible(p, frame.origin, radius);
+    let which = &which[..n];
+    // aim only where a lamp can be seen from p
+    let q = if n > 0 { lamps.share } else { 0.0 };
+    let lens_point = if a.0 < q {
+        // a lamp, then a direction in its cone from p, to the lens plane
+        let u = a.0 / q * n as f64;
+        let j = (u as usize).min(n - 1);
+        let k = which[j] as usize;
+        let (c, r) = lamps.lamps[k];
+        let axis = c - p;
+        let dist = axis.length();
+        if dist <= r {
+            return None;
+        }
+        let w = axis / dist;
+        let cos_max = (1.0 - (r / dist) * (r / dist)).max(0.0).sqrt();
+        let cos = 1.0 - (u - j as f64) * (1.0 - cos_max);
+        let sin = (1.0 - cos * cos).max(0.0).sqrt();
+        let phi = std::f64::consts::TAU * a.1;
+        let (t, b) = crate::material::basis(w);
+        let dir = w * cos + (t * phi.cos() + b * phi.sin()) * sin;
+        let along = dir.dot(frame.forward);
+        if along.abs() < 1e-12 {
+            return None;
+        }
+        // p + s dir on the lens plane
+        let s = -(p - frame.origin).dot(frame.forward) / along;
+        p + dir * s
+    } else {
+        let (ax, ay) = aperture.sample(((a.0 - q) / (1.0 - q), a.1));
+        frame.origin + frame.right * (ax * radius) + frame.up * (ay * radius)
+    };
+    let off = lens_point - frame.origin;
+    let (ax, ay) = (off.dot(frame.right) / radius, off.dot(frame.up) / radius);
+    if !aperture.contains(ax, ay) {
+        return None;
+    }
+    let uniform = 1.0 / (aperture.unit_area() * radius * radius);
+    let mixture =
+        (1.0 - q) * uniform + if q > 0.0 { q * lamps.density(p, lens_point, frame.forward, which) } else { 0.0 };
+    let dir = (p - lens_point).normalize();
+    Some((Ray { origin: lens_point, dir }, uniform / mixture))
 }
 
 /// The pinhole direction through film position (u, v).

@@ -105,6 +105,8 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
                 radius: diameter / 2.0,
                 focus,
                 glass,
+                // filled in once the scene's lamps are known
+                lamps: Default::default(),
                 aperture: Aperture::from_spec(aperture_shape, dir)
                     .map_err(|e| ("camera.aperture_shape".into(), e.into()))?,
                 focus_shift: *focus_shift,

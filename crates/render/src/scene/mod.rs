@@ -460,11 +460,21 @@ impl Scene {
                 ground: radiance(ground, "ground")?,
             },
         };
-        let camera = camera::build_camera(&file.camera, f, dir).map_err(|(field, source)| SceneError::Invalid {
+        let mut camera = camera::build_camera(&file.camera, f, dir).map_err(|(field, source)| SceneError::Invalid {
             path: name.to_string(),
             field,
             source,
         })?;
+        if let Camera::ThinLens { aperture, focus_shift, lamps, .. } = &mut camera {
+            let spheres = (0..shapes.len())
+                .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }))
+                .filter_map(|i| match shapes[i] {
+                    Shape::Sphere { center, radius } => Some((center, radius)),
+                    _ => None,
+                })
+                .collect();
+            *lamps = crate::camera::LampAim::new(spheres, aperture, *focus_shift);
+        }
         let colour = colour_mode(&file.film, &camera, &materials, &point_lights).map_err(|(field, e)| bad(field, e))?;
         // acceleration only when there are enough bounded primitives
         let bounded: Vec<usize> = (0..shapes.len()).filter(|&i| !matches!(shapes[i], Shape::Plane { .. })).collect();

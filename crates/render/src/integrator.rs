@@ -29,7 +29,12 @@ pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sa
     for depth in 0..MAX_DEPTH {
         let scale = 1.0 + ray.origin.abs().max_element();
         let Some((prim, h)) = scene.intersect(&ray, EPS * scale, f64::INFINITY) else {
-            l += beta * scene.background.radiance(t, ray.dir);
+            let le = scene.background.radiance(t, ray.dir);
+            match (after_diffuse, &scene.env_sampler) {
+                // an environment is light-sampled too: weigh the two
+                (Some((_, pdf_bsdf)), Some(env)) => l += beta * le * power_heuristic(pdf_bsdf, env.pdf(ray.dir)),
+                _ => l += beta * le,
+            }
             break;
         };
         let mat = &scene.materials[scene.material_of[prim]];
@@ -90,6 +95,18 @@ fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sample
         let cos = n.dot(d) / dist2.sqrt();
         if cos > 0.0 && scene.visible(p, lp) {
             e += t.radiance(intensity) * (cos / dist2);
+        }
+    }
+    if let Some(env) = &scene.env_sampler {
+        // one direction drawn from the environment's own light
+        if let Some((d, pdf)) = env.sample(s.next2()) {
+            let cos = n.dot(d);
+            let ray = Ray { origin: p, dir: d };
+            let scale = 1.0 + p.abs().max_element();
+            if cos > 0.0 && scene.intersect(&ray, EPS * scale, f64::INFINITY).is_none() {
+                let w = power_heuristic(pdf, cos / std::f64::consts::PI);
+                e += scene.background.radiance(t, d) * (cos / pdf * w);
+            }
         }
     }
     if let Some((prim, chosen)) = scene.choose_emitter(s.uniform()) {

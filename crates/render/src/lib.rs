@@ -12,6 +12,7 @@
 
 pub mod bvh;
 pub mod camera;
+pub mod envmap;
 pub mod geometry;
 pub mod image;
 pub mod integrator;

@@ -323,3 +323,28 @@ fn aiming_at_lamps_through_the_aperture_is_unbiased() {
         }
     }
 }
+
+/// An environment image is light-sampled and found by BSDF sampling, the
+/// two weighted (MIS): a white diffuse sphere under a uniform environment
+/// is the environment's radiance exactly (a furnace), which fails if the
+/// weights do not sum to one.
+#[test]
+fn an_environment_is_light_sampled_without_bias() {
+    let d = std::env::temp_dir().join(format!("lens-env-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let uniform = Image { width: 16, height: 8, pixels: vec![DVec3::splat(0.7); 128] };
+    uniform.save(&d.join("uniform.exr"), 1.0).unwrap();
+    let s = scene(&format!(
+        r#"{{"camera": {{"type": "pinhole", "position": [0, 0, -3], "look_at": [0, 0, 0], "fov_deg": 30}},
+            "film": {{"width": 16, "height": 16, "spp": 64}},
+            "background": {{"type": "environment", "exr": "{}"}},
+            "materials": {{"white": {{"type": "diffuse", "color": [1, 1, 1]}}}},
+            "shapes": [{{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "white"}}]}}"#,
+        d.join("uniform.exr").display()
+    ));
+    assert!(s.env_sampler.is_some());
+    let (img, _) = render(&s, Options { spp: 128, seed: 3 }, &|_| {});
+    let mean = img.pixels.iter().map(|p| p.x).sum::<f64>() / img.pixels.len() as f64;
+    assert!((mean - 0.7).abs() < 0.007, "furnace {mean}, expected 0.7");
+    std::fs::remove_dir_all(&d).unwrap();
+}

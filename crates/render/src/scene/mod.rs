@@ -188,6 +188,9 @@ pub struct Scene {
     pub point_lights: Vec<(DVec3, Radiance)>,
     /// Background.
     pub background: Background,
+    /// Importance sampling of an environment background (`None` for the
+    /// others, or a black image).
+    pub env_sampler: Option<crate::envmap::EnvSampler>,
     /// Camera.
     pub camera: Camera,
     /// Film settings.
@@ -490,6 +493,10 @@ impl Scene {
             materials,
             emitter_cdf,
             emitters,
+            env_sampler: match &background {
+                Background::Environment(img) => crate::envmap::EnvSampler::new(img),
+                _ => None,
+            },
             point_lights,
             background,
             camera,

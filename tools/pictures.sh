@@ -10,16 +10,15 @@ lens=target/release/lens
 out=docs/pictures
 bash tools/analysis-pictures.sh
 $lens chromatic lens-data/achromat-fc-100mm.json --plot $out/chromatic-achromat-fc.png > /dev/null
-# the original study's comparisons, each one study
-$lens study lens-data/studies/dof-apertures.json -o $out/dof-apertures.png
-$lens study lens-data/studies/dof-samples.json -o $out/dof-samples.png
-$lens study lens-data/studies/focus-shift.json -o $out/focus-shift.png
-$lens study lens-data/studies/real-lenses.json -o $out/dof-real-lenses.png
-$lens study lens-data/studies/aperture-shapes.json -o $out/bokeh-chart.png
-$lens render lens-data/scenes/bokeh-thin-star.json -o $out/bokeh-star.png
-# the portrait at 960 x 540 a cell, kept as JPEG (a noisy photograph)
+# the original study's comparisons, each one study; the montages of
+# renders are kept as JPEG (noisy photographs: a few hundred KB)
 tmp=$(mktemp -d)
-$lens study lens-data/studies/portrait.json -o "$tmp/portrait.png"
-python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).convert('RGB').save(sys.argv[2], quality=88)" "$tmp/portrait.png" $out/portrait.jpg
+jpeg() { python3 -c "import sys; from PIL import Image; Image.open(sys.argv[1]).convert('RGB').save(sys.argv[2], quality=88)" "$1" "$2"; }
+for s in dof-apertures:dof-apertures dof-samples:dof-samples focus-shift:focus-shift \
+         real-lenses:dof-real-lenses aperture-shapes:bokeh-chart portrait:portrait; do
+  $lens study "lens-data/studies/${s%%:*}.json" -o "$tmp/${s##*:}.png"
+  jpeg "$tmp/${s##*:}.png" "$out/${s##*:}.jpg"
+done
 rm -r "$tmp"
+$lens render lens-data/scenes/bokeh-thin-star.json -o $out/bokeh-star.png
 python3 tools/spectral_pictures.py

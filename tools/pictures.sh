@@ -20,5 +20,10 @@ for s in dof-apertures:dof-apertures dof-samples:dof-samples focus-shift:focus-s
   jpeg "$tmp/${s##*:}.png" "$out/${s##*:}.jpg"
 done
 rm -r "$tmp"
-$lens render lens-data/scenes/bokeh-thin-star.json -o $out/bokeh-star.png
+$lens render lens-data/scenes/bokeh-thin-star.json -o $out/bokeh-star.png --width 960 --height 600
+# error against run time of the three cameras (docs/render-report/)
+for c in pinhole thin-lens real-lens; do
+  $lens render lens-data/scenes/report-$c.json -o docs/render-report/$c-reference.png --spp 64 \
+    --report docs/render-report/$c.md 2> /dev/null
+done
 python3 tools/spectral_pictures.py

@@ -5,7 +5,7 @@
 //! path's wavelengths.
 
 use crate::geometry::{Ray, EPS};
-use crate::light::sample_shape;
+use crate::light::sample_shape_at;
 use crate::material::{cosine_hemisphere, Material, Scatter};
 use crate::rng::Sampler;
 use crate::scene::Scene;
@@ -19,7 +19,29 @@ pub const RR_DEPTH: usize = 3;
 
 /// Radiance arriving along `ray`, in the channels of `t` (linear sRGB, or
 /// a value per wavelength).
-pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sampler) -> T::Value {
+pub fn radiance<T: Transport>(scene: &Scene, ray: Ray, t: &mut T, s: &mut Sampler) -> T::Value {
+    radiance_with(scene, ray, t, s, None)
+}
+
+/// The uniforms of a path's first diffuse bounce drawn by the render loop
+/// (stratified over a pixel's samples): the light sample's and the
+/// direction's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FirstBounce {
+    /// Two uniforms for the light sample.
+    pub light: (f64, f64),
+    /// Two uniforms for the cosine-sampled direction.
+    pub bsdf: (f64, f64),
+}
+
+/// [`radiance`] with the first diffuse bounce's uniforms given.
+pub fn radiance_with<T: Transport>(
+    scene: &Scene,
+    mut ray: Ray,
+    t: &mut T,
+    s: &mut Sampler,
+    mut first: Option<FirstBounce>,
+) -> T::Value {
     let mut l = T::Value::ZERO;
     let mut beta = T::Value::ONE;
     // emission seen directly or through specular bounces is counted on hit;
@@ -58,8 +80,12 @@ pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sa
         match mat.scatter(t, ray.dir, h.n, h.uv, s) {
             Scatter::None => break,
             Scatter::Diffuse(albedo) => {
-                l += beta * albedo * direct(scene, t, above, ns, s) * (1.0 / std::f64::consts::PI);
-                let d = cosine_hemisphere(ns, s.next2());
+                let bounce = first.take();
+                l += beta
+                    * albedo
+                    * direct(scene, t, above, ns, s, bounce.map(|b| b.light))
+                    * (1.0 / std::f64::consts::PI);
+                let d = cosine_hemisphere(ns, bounce.map_or_else(|| s.next2(), |b| b.bsdf));
                 // cosine sampling: cos / pdf = pi cancels the 1/pi of Lambert
                 beta *= albedo;
                 ray = Ray { origin: above, dir: d };
@@ -86,7 +112,14 @@ pub fn radiance<T: Transport>(scene: &Scene, mut ray: Ray, t: &mut T, s: &mut Sa
 /// Direct light at a diffuse point `p` with normal `n` (irradiance times pi:
 /// the caller multiplies by albedo / pi): point lights, and one emissive
 /// shape chosen in proportion to its power, sampled by area.
-fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sampler) -> T::Value {
+fn direct<T: Transport>(
+    scene: &Scene,
+    t: &T,
+    p: DVec3,
+    n: DVec3,
+    s: &mut Sampler,
+    light_u: Option<(f64, f64)>,
+) -> T::Value {
     let mut e = T::Value::ZERO;
     for (lp, intensity) in &scene.point_lights {
         let lp = *lp;
@@ -99,7 +132,7 @@ fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sample
     }
     if let Some(env) = &scene.env_sampler {
         // one direction drawn from the environment's own light
-        if let Some((d, pdf)) = env.sample(s.next2()) {
+        if let Some((d, pdf)) = env.sample(light_u.unwrap_or_else(|| s.next2())) {
             let cos = n.dot(d);
             let ray = Ray { origin: p, dir: d };
             let scale = 1.0 + p.abs().max_element();
@@ -110,7 +143,8 @@ fn direct<T: Transport>(scene: &Scene, t: &T, p: DVec3, n: DVec3, s: &mut Sample
         }
     }
     if let Some((prim, chosen)) = scene.choose_emitter(s.uniform()) {
-        if let Some((q, nq, pdf_area)) = sample_shape(&scene.shapes[prim], s) {
+        let u = light_u.unwrap_or_else(|| s.next2());
+        if let Some((q, nq, pdf_area)) = sample_shape_at(&scene.shapes[prim], u) {
             let d = q - p;
             let dist2 = d.length_squared();
             let dir = d / dist2.sqrt();

@@ -7,7 +7,11 @@ use glam::DVec3;
 /// A point sampled on a shape's surface, uniform by area: the point, its
 /// outward unit normal, and the density 1 / area.
 pub fn sample_shape(s: &Shape, sampler: &mut Sampler) -> Option<(DVec3, DVec3, f64)> {
-    let (u, v) = sampler.next2();
+    sample_shape_at(s, sampler.next2())
+}
+
+/// [`sample_shape`] from the two uniforms `(u, v)`.
+pub fn sample_shape_at(s: &Shape, (u, v): (f64, f64)) -> Option<(DVec3, DVec3, f64)> {
     match *s {
         Shape::Sphere { center, radius } => {
             let z = 1.0 - 2.0 * u;

@@ -7,7 +7,7 @@
 use crate::camera::Camera;
 use crate::camera::{CameraSample, SpectralLane};
 use crate::image::Image;
-use crate::integrator::radiance;
+use crate::integrator::{radiance_with, FirstBounce};
 use crate::rng::{stratified, Sampler};
 use crate::scene::format::FilterSpec;
 use crate::scene::{ColourMode, Scene};
@@ -84,6 +84,8 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
             let mut order: Vec<usize> = Vec::with_capacity(strata * strata);
             let mut colours: Vec<SampledWavelengths> = Vec::with_capacity(samples.capacity());
             let mut lambda_order: Vec<usize> = Vec::new();
+            let (mut light_order, mut bsdf_order) = (Vec::new(), Vec::new());
+            let mut firsts: Vec<FirstBounce> = Vec::with_capacity(samples.capacity());
             let mut lanes = Vec::new();
             for x0 in (0..w).step_by(group) {
                 let xs = x0..(x0 + group).min(w);
@@ -91,6 +93,7 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                     xs.clone().map(|x| Sampler::new(opt.seed, (y * w + x) as u64)).collect();
                 samples.clear();
                 colours.clear();
+                firsts.clear();
                 for (x, s) in xs.clone().zip(&mut samplers) {
                     // the aperture strata in a random order of this pixel's own
                     order.clear();
@@ -109,6 +112,21 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                         };
                         let film = ((x as f64 + ox) / w as f64, (y as f64 + oy) / h as f64);
                         samples.push(CameraSample::new(film, a));
+                    }
+                    // the first bounce's light and direction: strata of
+                    // their own, each in a random order of the pixel's
+                    for stratum in [&mut light_order, &mut bsdf_order] {
+                        stratum.clear();
+                        stratum.extend(0..strata * strata);
+                        shuffle(stratum, s);
+                    }
+                    for k in 0..spp {
+                        let draw = |order: &Vec<usize>, s: &mut Sampler| match order.get(k) {
+                            Some(&o) => stratified(o, strata, s.next2()),
+                            None => s.next2(),
+                        };
+                        let light = draw(&light_order, s);
+                        firsts.push(FirstBounce { light, bsdf: draw(&bsdf_order, s) });
                     }
                     let start = colours.len();
                     push_wavelengths(scene, spp, s, &mut lambda_order, &mut colours);
@@ -143,7 +161,7 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                             };
                             row_passed += 1;
                             let mut t = Spectral::new(colours[k]);
-                            let l = radiance(scene, ray, &mut t, s);
+                            let l = radiance_with(scene, ray, &mut t, s, Some(firsts[k]));
                             sum += match lane {
                                 Some(lane) => {
                                     let pixel =
@@ -160,18 +178,21 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                 scene.camera.rays(&samples, &mut rays);
                 for (i, s) in samplers.iter_mut().enumerate() {
                     let mut sum = DVec3::ZERO;
-                    for (ray, weight) in rays[i * spp..(i + 1) * spp].iter().flatten() {
-                        if *weight > 0.0 {
-                            row_passed += 1;
-                            sum += *weight
-                                * match scene.colour {
-                                    ColourMode::Monochromatic(nm) => {
-                                        let mut t = Spectral::new(SampledWavelengths::single(nm));
-                                        DVec3::splat(radiance(scene, *ray, &mut t, s).0[0])
-                                    }
-                                    _ => radiance(scene, *ray, &mut Rgb, s),
-                                };
+                    for k in i * spp..(i + 1) * spp {
+                        let Some((ray, weight)) = rays[k] else { continue };
+                        if weight <= 0.0 {
+                            continue;
                         }
+                        row_passed += 1;
+                        let first = Some(firsts[k]);
+                        sum += weight
+                            * match scene.colour {
+                                ColourMode::Monochromatic(nm) => {
+                                    let mut t = Spectral::new(SampledWavelengths::single(nm));
+                                    DVec3::splat(radiance_with(scene, ray, &mut t, s, first).0[0])
+                                }
+                                _ => radiance_with(scene, ray, &mut Rgb, s, first),
+                            };
                     }
                     row.push(sum / spp as f64);
                 }

@@ -96,9 +96,7 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                 firsts.clear();
                 for (x, s) in xs.clone().zip(&mut samplers) {
                     // the aperture strata in a random order of this pixel's own
-                    order.clear();
-                    order.extend(0..strata * strata);
-                    shuffle(&mut order, s);
+                    shuffle_strata(&mut order, strata, s);
                     for k in 0..spp {
                         let stratified_k = k < order.len();
                         let (jx, jy) = if stratified_k { stratified(k, strata, s.next2()) } else { s.next2() };
@@ -106,27 +104,17 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                             FilterSpec::Box => (jx, jy),
                             FilterSpec::Tent => (0.5 + tent(jx), 0.5 + tent(jy)),
                         };
-                        let a = match order.get(k) {
-                            Some(&o) => stratified(o, strata, s.next2()),
-                            None => s.next2(),
-                        };
+                        let a = from_stratum(&order, k, strata, s);
                         let film = ((x as f64 + ox) / w as f64, (y as f64 + oy) / h as f64);
                         samples.push(CameraSample::new(film, a));
                     }
                     // the first bounce's light and direction: strata of
                     // their own, each in a random order of the pixel's
-                    for stratum in [&mut light_order, &mut bsdf_order] {
-                        stratum.clear();
-                        stratum.extend(0..strata * strata);
-                        shuffle(stratum, s);
-                    }
+                    shuffle_strata(&mut light_order, strata, s);
+                    shuffle_strata(&mut bsdf_order, strata, s);
                     for k in 0..spp {
-                        let draw = |order: &Vec<usize>, s: &mut Sampler| match order.get(k) {
-                            Some(&o) => stratified(o, strata, s.next2()),
-                            None => s.next2(),
-                        };
-                        let light = draw(&light_order, s);
-                        firsts.push(FirstBounce { light, bsdf: draw(&bsdf_order, s) });
+                        let light = from_stratum(&light_order, k, strata, s);
+                        firsts.push(FirstBounce { light, bsdf: from_stratum(&bsdf_order, k, strata, s) });
                     }
                     let start = colours.len();
                     push_wavelengths(scene, spp, s, &mut lambda_order, &mut colours);
@@ -288,6 +276,22 @@ fn push_wavelengths(
             shuffle(order, s);
             out.extend(order.iter().map(|&k| range.sample_four((k as f64 + s.uniform()) / spp as f64)));
         }
+    }
+}
+
+/// The `strata` x `strata` cells in a random order of the pixel's stream.
+fn shuffle_strata(order: &mut Vec<usize>, strata: usize, s: &mut Sampler) {
+    order.clear();
+    order.extend(0..strata * strata);
+    shuffle(order, s);
+}
+
+/// Sample `k`'s two uniforms: jittered in cell `order[k]`, or plain beyond
+/// the strata.
+fn from_stratum(order: &[usize], k: usize, strata: usize, s: &mut Sampler) -> (f64, f64) {
+    match order.get(k) {
+        Some(&o) => stratified(o, strata, s.next2()),
+        None => s.next2(),
     }
 }
 

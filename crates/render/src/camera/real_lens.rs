@@ -154,10 +154,7 @@ impl RealLensCamera {
         // a spectral render samples at most 360-830 nm, within the glasses'
         // data: the bounds hold both ends
         let ends: Vec<f64> = if p.is_dispersive() {
-            let (lo, hi) =
-                p.glasses().iter().fold((crate::spectrum::cie::MIN_NM, crate::spectrum::cie::MAX_NM), |(lo, hi), g| {
-                    (lo.max(g.range_nm[0]), hi.min(g.range_nm[1]))
-                });
+            let (lo, hi) = crate::spectrum::cie::range_through(p.glasses());
             if lo < hi {
                 vec![lo, hi]
             } else {

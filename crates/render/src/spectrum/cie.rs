@@ -18,6 +18,12 @@ pub const MIN_NM: f64 = FIRST_NM;
 /// Longest wavelength a spectral render samples, nm.
 pub const MAX_NM: f64 = LAST_NM;
 
+/// The wavelengths a spectral render may sample through `glasses`, nm:
+/// 360-830 nm narrowed to every glass's data (empty when `lo >= hi`).
+pub fn range_through<'a>(glasses: impl IntoIterator<Item = &'a lens::glass::Glass>) -> (f64, f64) {
+    glasses.into_iter().fold((MIN_NM, MAX_NM), |(lo, hi), g| (lo.max(g.range_nm[0]), hi.min(g.range_nm[1])))
+}
+
 /// The CIE 1931 2-degree colour-matching functions (x̄, ȳ, z̄) at `nm`
 /// (linear between the 1 nm table's entries; zero outside 360-830 nm).
 pub fn cmf(nm: f64) -> DVec3 {

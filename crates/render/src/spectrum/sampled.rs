@@ -167,19 +167,6 @@ impl SampledSpectrum {
         SampledSpectrum([v; N])
     }
 
-    /// Evaluates `f` at each live wavelength (0 at terminated ones: only
-    /// the hero is evaluated once the others are terminated).
-    #[inline]
-    pub fn of(w: &SampledWavelengths, f: impl Fn(f64) -> f64) -> Self {
-        if w.terminated {
-            let mut v = [0.0; N];
-            v[0] = f(w.nm[0]);
-            SampledSpectrum(v)
-        } else {
-            SampledSpectrum(w.nm.map(f))
-        }
-    }
-
     /// The largest value.
     pub fn max_element(&self) -> f64 {
         self.0.iter().copied().fold(f64::NEG_INFINITY, f64::max)

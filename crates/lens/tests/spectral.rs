@@ -50,7 +50,8 @@ fn bits(o: &Outcome) -> Vec<u64> {
         Outcome::Reached { ray, opl }
         | Outcome::Missed { ray, opl, .. }
         | Outcome::Blocked { ray, opl, .. }
-        | Outcome::TotalInternalReflection { ray, opl, .. } => (ray, opl),
+        | Outcome::TotalInternalReflection { ray, opl, .. }
+        | Outcome::NotConverged { ray, opl, .. } => (ray, opl),
     };
     [ray.origin.to_array(), ray.direction.to_array()].concat().iter().chain([opl].iter()).map(|x| x.to_bits()).collect()
 }

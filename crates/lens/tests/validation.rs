@@ -144,7 +144,7 @@ proptest! {
             glass_catalogs: None,
             name: None, source: None, units: None,
             surfaces: rows.iter().map(|&(radius, thickness, ior, semi_diameter, stop)| lens::SurfaceSpec {
-                radius, thickness, ior, glass: None, semi_diameter, stop }).collect(),
+                ior, semi_diameter, stop, ..lens::SurfaceSpec::new(radius, thickness) }).collect(),
         };
         let _ = validate(&spec);
         if let Ok(p) = Prescription::from_spec(&spec) {

@@ -38,7 +38,8 @@ pub fn clear_aperture_limit(p: &Prescription, first: &FirstOrder) -> Option<Aper
             Outcome::Reached { .. } => None,
             Outcome::Missed { surface, .. }
             | Outcome::Blocked { surface, .. }
-            | Outcome::TotalInternalReflection { surface, .. } => Some(surface),
+            | Outcome::TotalInternalReflection { surface, .. }
+            | Outcome::NotConverged { surface, .. } => Some(surface),
         }
     };
     // an upper bound: no ray passes far above the largest clear aperture

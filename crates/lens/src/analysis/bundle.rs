@@ -122,6 +122,11 @@ pub fn describe_outcome(o: &Outcome) -> String {
         Outcome::TotalInternalReflection { surface, ray, .. } => {
             format!("is totally reflected at surface {} at {}", surface + 1, at(ray))
         }
+        Outcome::NotConverged { surface, ray, .. } => format!(
+            "has no intersection found with aspheric surface {} (Newton's iteration did not converge; leaving {})",
+            surface + 1,
+            at(ray)
+        ),
     }
 }
 

@@ -54,12 +54,10 @@ pub fn parse_dat(text: &str, origin: &str) -> Result<PrescriptionSpec, LoadError
         let [radius, thickness, ior, diameter] = v;
         let stop = radius == 0.0;
         surfaces.push(SurfaceSpec {
-            radius: (!stop).then_some(radius),
-            thickness,
             ior: Some(if ior == 0.0 { 1.0 } else { ior }),
-            glass: None,
             semi_diameter: Some(diameter / 2.0),
             stop,
+            ..SurfaceSpec::new((!stop).then_some(radius), thickness)
         });
     }
     let mut spec = PrescriptionSpec {

@@ -192,6 +192,19 @@ impl Prescription {
                             _ => GlassSpec::Name(g.full_name()),
                         }
                     });
+                    let (conic, aspheric, odd_aspheric) = match &s.asphere {
+                        None => (None, None, None),
+                        Some(a) => {
+                            let conic = (a.conic != 0.0).then_some(a.conic);
+                            if a.degree() == 0 {
+                                (conic, None, None)
+                            } else if a.is_even() {
+                                (conic, Some(a.even_terms()), None)
+                            } else {
+                                (conic, None, Some(a.all_terms()))
+                            }
+                        }
+                    };
                     SurfaceSpec {
                         radius: s.radius(),
                         thickness: s.thickness,
@@ -199,6 +212,9 @@ impl Prescription {
                         glass,
                         semi_diameter: s.semi_diameter,
                         stop: s.stop,
+                        conic,
+                        aspheric,
+                        odd_aspheric,
                     }
                 })
                 .collect(),
@@ -302,10 +318,8 @@ impl Prescription {
         if !(semi_diameter.is_finite() && semi_diameter > 0.0) {
             return Err(bad);
         }
-        if let Some(r) = self.surfaces[self.stop].radius() {
-            if semi_diameter > r.abs() {
-                return Err(bad);
-            }
+        if self.surfaces[self.stop].sag(semi_diameter).is_none() {
+            return Err(bad);
         }
         let mut p = self.clone();
         p.surfaces[self.stop].semi_diameter = Some(semi_diameter);
@@ -327,5 +341,6 @@ fn surface_from_spec(s: &SurfaceSpec) -> Surface {
         glass: None,
         semi_diameter: s.semi_diameter,
         stop: s.stop,
+        asphere: s.asphere(),
     }
 }

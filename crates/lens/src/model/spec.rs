@@ -83,4 +83,75 @@ pub struct SurfaceSpec {
     /// Marks the aperture stop (exactly one surface).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub stop: bool,
+    /// Conic constant k of an aspheric surface (0 or omitted: the sphere of
+    /// `radius`; -1 a paraboloid). See [`crate::model::surface::Asphere`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub conic: Option<f64>,
+    /// Even-asphere coefficients: of r^2, r^4, r^6, ... (at most 8, to
+    /// r^16), lengths in mm (a_j in mm^(1-j)), added to the conic's sag.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub aspheric: Option<Vec<f64>>,
+    /// Odd-asphere coefficients: of r^1, r^2, r^3, ... (at most 16), mm,
+    /// added to the conic's sag (and to `aspheric`'s terms).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub odd_aspheric: Option<Vec<f64>>,
+}
+
+impl SurfaceSpec {
+    /// A surface of `radius` (mm, `None` for a plane) and `thickness` mm
+    /// in air, with every optional field unset.
+    pub fn new(radius: Option<f64>, thickness: f64) -> Self {
+        SurfaceSpec {
+            radius,
+            thickness,
+            ior: None,
+            glass: None,
+            semi_diameter: None,
+            stop: false,
+            conic: None,
+            aspheric: None,
+            odd_aspheric: None,
+        }
+    }
+
+    /// Whether the file gives this surface a conic or aspheric terms.
+    pub fn is_aspheric(&self) -> bool {
+        self.conic.is_some_and(|k| k != 0.0)
+            || self.aspheric.as_ref().is_some_and(|a| a.iter().any(|x| *x != 0.0))
+            || self.odd_aspheric.as_ref().is_some_and(|a| a.iter().any(|x| *x != 0.0))
+    }
+
+    /// The surface's asphere as written, `None` for a sphere or plane (or
+    /// when there are too many terms, which validation reports).
+    pub fn asphere(&self) -> Option<crate::model::surface::Asphere> {
+        if !self.is_aspheric() {
+            return None;
+        }
+        crate::model::surface::Asphere::new(
+            self.conic.unwrap_or(0.0),
+            self.aspheric.as_deref().unwrap_or(&[]),
+            self.odd_aspheric.as_deref().unwrap_or(&[]),
+        )
+    }
+
+    /// Curvature 1/mm of the base sphere as written (0 for a plane),
+    /// `None` for a radius that is not a number or 0.
+    pub fn curvature(&self) -> Option<f64> {
+        match self.radius {
+            Some(r) if r.is_finite() && r != 0.0 => Some(1.0 / r),
+            Some(_) => None,
+            None => Some(0.0),
+        }
+    }
+
+    /// Sag mm at height `h` mm, as [`crate::model::Surface::sag`]; `None`
+    /// where the surface does not reach `h` or its numbers are unusable.
+    pub fn sag(&self, h: f64) -> Option<f64> {
+        let c = self.curvature()?;
+        match self.asphere() {
+            Some(a) => a.sag(c, h),
+            None if self.is_aspheric() => None,
+            None => crate::model::surface::sag(c, h),
+        }
+    }
 }

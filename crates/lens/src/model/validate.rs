@@ -2,7 +2,6 @@
 
 use super::finding::{Finding, Severity};
 use super::spec::{PrescriptionSpec, SurfaceSpec};
-use super::surface::sag;
 use crate::error::num;
 
 struct Findings(Vec<Finding>);
@@ -189,6 +188,7 @@ fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
             format!("thickness {} mm is negative: give the axial distance to the next surface (>= 0)", s.thickness),
         );
     }
+    check_asphere_terms(out, n, s);
     if s.ior.is_some() && s.glass.is_some() {
         out.error(
             n,
@@ -237,6 +237,7 @@ fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
             "semi_diameter",
             format!("semi_diameter {} mm is smaller than {MIN_RADIUS} mm: no light gets through; give the clear radius in mm", num(sd)),
         ),
+        Some(sd) if s.is_aspheric() => check_asphere_reach(out, n, s, sd),
         Some(sd) => {
             if let Some(r) = s.radius {
                 if r.is_finite() && r != 0.0 && sd > r.abs() {
@@ -255,27 +256,84 @@ fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
     }
 }
 
+/// The asphere's numbers: a finite conic constant, finite coefficients, no
+/// more terms than the model holds.
+fn check_asphere_terms(out: &mut Findings, n: usize, s: &SurfaceSpec) {
+    use super::surface::MAX_ASPHERE_POWER;
+    if let Some(k) = s.conic {
+        if !k.is_finite() {
+            out.error(
+                n,
+                "conic",
+                format!("conic {k} is not a finite number: give the conic constant (0 for a sphere)"),
+            );
+        }
+    }
+    for (field, terms, most) in
+        [("aspheric", &s.aspheric, MAX_ASPHERE_POWER / 2), ("odd_aspheric", &s.odd_aspheric, MAX_ASPHERE_POWER)]
+    {
+        let Some(terms) = terms else { continue };
+        if terms.len() > most {
+            out.error(
+                n,
+                field,
+                format!(
+                    "{} {field} terms: at most {most} (to r^{MAX_ASPHERE_POWER}); drop the trailing ones",
+                    terms.len()
+                ),
+            );
+        }
+        if let Some((j, a)) = terms.iter().enumerate().find(|(_, a)| !a.is_finite()) {
+            out.error(n, field, format!("{field} term {} is {a}: give finite coefficients", j + 1));
+        }
+    }
+}
+
+/// An asphere's profile must exist over the whole clear aperture: the
+/// conic's square root real out to the semi-diameter, and no non-finite sag
+/// (checked at [`EDGE_SAMPLES`] heights).
+fn check_asphere_reach(out: &mut Findings, n: usize, s: &SurfaceSpec, sd: f64) {
+    let Some(c) = s.curvature() else { return };
+    if s.asphere().is_none() {
+        return; // too many or bad terms: reported by check_asphere_terms
+    }
+    for k in 0..=EDGE_SAMPLES {
+        let h = sd * k as f64 / EDGE_SAMPLES as f64;
+        if !s.sag(h).is_some_and(f64::is_finite) {
+            let k1 = 1.0 + s.conic.unwrap_or(0.0);
+            let reach = if k1 > 0.0 && c != 0.0 { 1.0 / (c.abs() * k1.sqrt()) } else { f64::INFINITY };
+            out.error(
+                n,
+                "semi_diameter",
+                format!(
+                    "the asphere is not defined at height {} mm inside semi_diameter {} mm (the conic reaches {} mm): reduce semi_diameter or check radius and conic",
+                    num(h),
+                    num(sd),
+                    num(reach)
+                ),
+            );
+            return;
+        }
+    }
+}
+
 /// Checks that surfaces i and i+1 (0-based) do not cross inside their common
 /// clear aperture: edge thickness t + sag(i+1, h) - sag(i, h) >= 0.
 fn check_edge(out: &mut Findings, spec: &PrescriptionSpec, i: usize) {
     let a = &spec.surfaces[i];
     let b = &spec.surfaces[i + 1];
-    let curvature = |s: &SurfaceSpec| match s.radius {
-        Some(r) if r.is_finite() && r != 0.0 => Some(1.0 / r),
-        Some(_) => None,
-        None => Some(0.0),
-    };
-    let (Some(ca), Some(cb)) = (curvature(a), curvature(b)) else { return };
+    let (Some(ca), Some(cb)) = (a.curvature(), b.curvature()) else { return };
     let ok = |v: Option<f64>| v.filter(|x| x.is_finite() && *x > 0.0);
     let h_max = match (ok(a.semi_diameter), ok(b.semi_diameter)) {
         (Some(x), Some(y)) => x.min(y),
         (Some(x), None) | (None, Some(x)) => x,
         (None, None) => return,
     };
-    // Stay on both spheres (a semi-diameter beyond |R| is reported separately).
+    // Stay on both spheres (a semi-diameter beyond |R| is reported
+    // separately; so is an asphere not defined out to it).
     let mut h_max = h_max;
-    for c in [ca, cb] {
-        if c != 0.0 {
+    for (c, s) in [(ca, a), (cb, b)] {
+        if c != 0.0 && !s.is_aspheric() {
             h_max = h_max.min(1.0 / c.abs());
         }
     }
@@ -285,7 +343,7 @@ fn check_edge(out: &mut Findings, spec: &PrescriptionSpec, i: usize) {
     let mut worst = (f64::INFINITY, 0.0);
     for k in 0..=EDGE_SAMPLES {
         let h = h_max * k as f64 / EDGE_SAMPLES as f64;
-        if let (Some(sa), Some(sb)) = (sag(ca, h), sag(cb, h)) {
+        if let (Some(sa), Some(sb)) = (a.sag(h), b.sag(h)) {
             let edge = a.thickness + sb - sa;
             if edge < worst.0 {
                 worst = (edge, h);

@@ -104,6 +104,10 @@ impl Mask for M64x4 {
         // SAFETY: AVX is available (module invariant).
         M64x4(unsafe { _mm256_castsi256_pd(_mm256_set1_epi64x(-1)) })
     }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.bits() != 0
+    }
 }
 
 impl Real for F64x4 {
@@ -142,6 +146,23 @@ impl Real for F64x4 {
     #[inline(always)]
     fn is_neg(self) -> M64x4 {
         M64x4(self.0)
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_andnot_pd(_mm256_set1_pd(-0.0), self.0) })
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> M64x4 {
+        // SAFETY: AVX is available (module invariant).
+        M64x4(unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn select(m: M64x4, a: Self, b: Self) -> Self {
+        // blendv reads the sign bit of each lane of the mask, which every
+        // mask here sets (module docs)
+        // SAFETY: AVX is available (module invariant).
+        F64x4(unsafe { _mm256_blendv_pd(b.0, a.0, m.0) })
     }
     #[inline(always)]
     fn is_finite(self) -> M64x4 {

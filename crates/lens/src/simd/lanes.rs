@@ -38,18 +38,30 @@ pub(crate) trait Real:
     /// its sign bit set). No operation for a vector, whose masks are read by
     /// their sign bits; `!x.is_neg()` is `x >= 0` but for `-0` and NaN.
     fn is_neg(self) -> Self::Mask;
+    /// `|self|`.
+    fn abs(self) -> Self;
+    /// `self <= o`, ordered: false where either is NaN.
+    fn le(self, o: Self) -> Self::Mask;
+    /// `a` where `m` is true, `b` elsewhere.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
 }
 
 /// Truth values, one per lane.
 pub(crate) trait Mask: Copy + BitAnd<Output = Self> + BitOr<Output = Self> + Not<Output = Self> {
     /// True in every lane.
     fn all_true() -> Self;
+    /// Whether any lane is true.
+    fn any(self) -> bool;
 }
 
 impl Mask for bool {
     #[inline(always)]
     fn all_true() -> Self {
         true
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self
     }
 }
 
@@ -87,5 +99,21 @@ impl Real for f64 {
     #[inline(always)]
     fn is_neg(self) -> bool {
         self.is_sign_negative()
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f64::abs(self)
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self <= o
+    }
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m {
+            a
+        } else {
+            b
+        }
     }
 }

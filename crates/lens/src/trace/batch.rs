@@ -17,13 +17,21 @@ use super::ray::{Outcome, Ray};
 use super::spectral::ChunkIndices;
 #[cfg(target_arch = "x86_64")]
 use super::step::{
-    kind_of, lanes_at, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, CURVED, FLAT, PLANE,
+    kind_of, lanes_at, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, ASPHERE, CURVED, FLAT,
+    PLANE,
 };
-use super::step::{Lane, PASSED};
+use super::step::{Lane, KIND_BITS, KIND_MASK, PASSED};
 use super::tracer::Tracer;
 use crate::error::OpticsError;
 #[cfg(target_arch = "x86_64")]
 use crate::simd::avx2::F64x4;
+#[cfg(target_arch = "x86_64")]
+use crate::trace::asphere::{
+    asphere_carry, newton_hit, newton_running, newton_start, newton_step, AsphereLanes, Newton, MAX_NEWTON_STEPS,
+};
+#[cfg(target_arch = "x86_64")]
+use crate::trace::step::StepOut;
+use crate::trace::step::NOT_CONVERGED;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::{approach, Approach};
 use glam::DVec3;
@@ -46,8 +54,9 @@ pub struct RayBatch {
     pub dz: Vec<f64>,
     /// Optical path length from the start, mm.
     pub opl: Vec<f64>,
-    /// 0 while travelling or when reached; otherwise `(step + 1) << 2 | kind`
-    /// (kind 1 missed, 2 blocked, 3 total internal reflection). Decode with
+    /// 0 while travelling or when reached; otherwise `(step + 1) << 3 | kind`
+    /// (kind 1 missed, 2 blocked, 3 total internal reflection, 4 an
+    /// asphere's iteration did not converge). Decode with
     /// [`Tracer::outcome_of`].
     pub status: Vec<u64>,
 }
@@ -280,6 +289,8 @@ struct Bits {
     failed: u64,
     /// It met the surface.
     ok: u64,
+    /// ... where an asphere's iteration converged.
+    converged: u64,
     /// ... inside the clear aperture.
     inside: u64,
 }
@@ -382,7 +393,7 @@ impl Tracer {
             }
             let (l, k, kind) = walk(i, batch.lane(i));
             batch.set_lane(i, Lane { pz: l.pz + self.steps[k].vertex_z, ..l });
-            batch.status[i] = if kind == PASSED { 0 } else { ((k as u64 + 1) << 2) | kind };
+            batch.status[i] = if kind == PASSED { 0 } else { ((k as u64 + 1) << KIND_BITS) | kind };
         }
     }
 
@@ -409,12 +420,13 @@ impl Tracer {
     /// When `i` is not a ray of the batch.
     pub fn outcome_of(&self, batch: &RayBatch, i: usize) -> Result<Outcome, OpticsError> {
         let status = batch.status[i];
-        let step = (status >> 2) as usize;
-        if status != 0 && (step == 0 || step > self.steps.len() || status & 3 == PASSED) {
+        let step = (status >> KIND_BITS) as usize;
+        let kind = status & KIND_MASK;
+        if status != 0 && (step == 0 || step > self.steps.len() || kind == PASSED || kind > NOT_CONVERGED) {
             return Err(OpticsError::BadInput {
                 name: "status",
                 value: status as f64,
-                expected: "0 (travelling or reached) or a code written by trace_soa: (step + 1) << 2 | kind, kind 1-3",
+                expected: "0 (travelling or reached) or a code written by trace_soa: (step + 1) << 3 | kind, kind 1-4",
             });
         }
         let ray = Ray {
@@ -425,8 +437,11 @@ impl Tracer {
     }
 
     fn decode(&self, ray: Ray, opl: f64, status: u64) -> Outcome {
-        let (k, kind) =
-            if status == 0 { (self.steps.len() - 1, PASSED) } else { ((status >> 2) as usize - 1, status & 3) };
+        let (k, kind) = if status == 0 {
+            (self.steps.len() - 1, PASSED)
+        } else {
+            ((status >> KIND_BITS) as usize - 1, status & KIND_MASK)
+        };
         self.classify(ray, opl, k, kind)
     }
 
@@ -551,6 +566,8 @@ impl Tracer {
         let n = c.pad(m);
         for (k, s) in self.steps.iter().enumerate() {
             match (s.refract, s.shape) {
+                (true, ASPHERE) => step_chunk::<true, ASPHERE, PER_RAY>(s, k, c, n, ix),
+                (false, ASPHERE) => step_chunk::<false, ASPHERE, PER_RAY>(s, k, c, n, ix),
                 (true, PLANE) => step_chunk::<true, PLANE, PER_RAY>(s, k, c, n, ix),
                 (true, FLAT) => step_chunk::<true, FLAT, PER_RAY>(s, k, c, n, ix),
                 (true, _) => step_chunk::<true, CURVED, PER_RAY>(s, k, c, n, ix),
@@ -604,53 +621,152 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
     let n = n.min(VECTORS);
     let Chunk { live: [a, b], done, status, approach, alive } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
-    if SHAPE != PLANE {
-        for (j, to) in approach[..n].iter_mut().enumerate() {
-            approach_vector(&sl, src, j, to);
-        }
-    }
     let mut bits = Bits::default();
-    // j indexes a dozen arrays in step
-    #[allow(clippy::needless_range_loop)]
-    for j in 0..n {
-        // each ray's own indices (a batch of mixed wavelengths)
-        let sl = if PER_RAY { lanes_at(sl, s, &ix.vector(j)) } else { sl };
-        let p = [F64x4::load(&src.x[j]), F64x4::load(&src.y[j]), F64x4::load(&src.z[j])];
-        let d = [F64x4::load(&src.dx[j]), F64x4::load(&src.dy[j]), F64x4::load(&src.dz[j])];
-        let opl = F64x4::load(&src.opl[j]);
-        let out = if SHAPE == PLANE {
-            step_lanes::<F64x4, REFRACT, PLANE>(
-                &sl,
-                Lane { px: p[0], py: p[1], pz: p[2], dx: d[0], dy: d[1], dz: d[2], opl },
-            )
-        } else {
-            let st = &approach[j];
-            let p = [p[0], p[1], p[2] - sl.shift];
-            let a = Approach {
-                t0: F64x4::load(&st.t0),
-                f: F64x4::load(&st.f),
-                g: F64x4::load(&st.g),
-                disc: F64x4::load(&st.disc),
+    if let (ASPHERE, Some(asph)) = (SHAPE, &s.asphere) {
+        asphere_chunk::<REFRACT, PER_RAY>(s, &sl, &AsphereLanes::of(s.c, asph), src, dst, n, ix, &mut bits);
+    } else {
+        if SHAPE != PLANE {
+            for (j, to) in approach[..n].iter_mut().enumerate() {
+                approach_vector(&sl, src, j, to);
+            }
+        }
+        // j indexes a dozen arrays in step
+        #[allow(clippy::needless_range_loop)]
+        for j in 0..n {
+            // each ray's own indices (a batch of mixed wavelengths)
+            let sl = if PER_RAY { lanes_at(sl, s, &ix.vector(j)) } else { sl };
+            let (p, d, opl) = load_rays(src, j);
+            let out = if SHAPE == PLANE {
+                step_lanes::<F64x4, REFRACT, PLANE>(
+                    &sl,
+                    Lane { px: p[0], py: p[1], pz: p[2], dx: d[0], dy: d[1], dz: d[2], opl },
+                )
+            } else {
+                let st = &approach[j];
+                let p = [p[0], p[1], p[2] - sl.shift];
+                let a = Approach {
+                    t0: F64x4::load(&st.t0),
+                    f: F64x4::load(&st.f),
+                    g: F64x4::load(&st.g),
+                    disc: F64x4::load(&st.disc),
+                };
+                sphere_from_approach::<F64x4, REFRACT, SHAPE>(&sl, &a, p, d, opl)
             };
-            sphere_from_approach::<F64x4, REFRACT, SHAPE>(&sl, &a, p, d, opl)
-        };
-        let o = out.next;
-        o.px.store(&mut dst.x[j]);
-        o.py.store(&mut dst.y[j]);
-        o.pz.store(&mut dst.z[j]);
-        o.dx.store(&mut dst.dx[j]);
-        o.dy.store(&mut dst.dy[j]);
-        o.dz.store(&mut dst.dz[j]);
-        o.opl.store(&mut dst.opl[j]);
-        let v = out.verdict;
-        bits.failed |= u64::from(!v.passed.bits() & 15) << (4 * j);
-        bits.ok |= u64::from(v.ok.bits()) << (4 * j);
-        bits.inside |= u64::from(v.inside.bits()) << (4 * j);
+            store_out(dst, j, &out, &mut bits);
+        }
     }
     let dying = *alive & bits.failed;
     if dying != 0 {
         *alive &= !dying;
         stop_rays(s, k, src, dst, done, status, bits, dying);
+    }
+}
+
+/// Vector `j` of `rays`: points, directions, path lengths.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn load_rays(rays: &Rays4, j: usize) -> ([F64x4; 3], [F64x4; 3], F64x4) {
+    let p = [F64x4::load(&rays.x[j]), F64x4::load(&rays.y[j]), F64x4::load(&rays.z[j])];
+    let d = [F64x4::load(&rays.dx[j]), F64x4::load(&rays.dy[j]), F64x4::load(&rays.dz[j])];
+    (p, d, F64x4::load(&rays.opl[j]))
+}
+
+/// Stores a step's result for vector `j` into `dst` and its verdicts into
+/// `bits`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn store_out(dst: &mut Rays4, j: usize, out: &StepOut<F64x4>, bits: &mut Bits) {
+    let o = out.next;
+    o.px.store(&mut dst.x[j]);
+    o.py.store(&mut dst.y[j]);
+    o.pz.store(&mut dst.z[j]);
+    o.dx.store(&mut dst.dx[j]);
+    o.dy.store(&mut dst.dy[j]);
+    o.dz.store(&mut dst.dz[j]);
+    o.opl.store(&mut dst.opl[j]);
+    let v = out.verdict;
+    bits.failed |= u64::from(!v.passed.bits() & 15) << (4 * j);
+    bits.ok |= u64::from(v.ok.bits()) << (4 * j);
+    bits.converged |= u64::from(v.converged.bits()) << (4 * j);
+    bits.inside |= u64::from(v.inside.bits()) << (4 * j);
+}
+
+/// Newton's iteration of one vector, kept between the passes of
+/// [`asphere_chunk`]: what changes (the distance and the two flags) apart
+/// from what does not (the start), so that a pass stores only the former.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Default)]
+struct Newton4 {
+    start: [[f64; 4]; 3],
+    iter: [[f64; 4]; 3],
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Newton4 {
+    #[inline(always)]
+    fn put(&mut self, n: &Newton<F64x4>) {
+        for (to, v) in self.start.iter_mut().zip(n.p) {
+            v.store(to);
+        }
+        self.put_iter(n);
+    }
+    #[inline(always)]
+    fn put_iter(&mut self, n: &Newton<F64x4>) {
+        for (to, v) in self.iter.iter_mut().zip([n.u, n.converged, n.missed]) {
+            v.store(to);
+        }
+    }
+    #[inline(always)]
+    fn get(&self) -> Newton<F64x4> {
+        let p = self.start.map(|v| F64x4::load(&v));
+        let [u, converged, missed] = self.iter.map(|v| F64x4::load(&v));
+        Newton { p, u, converged, missed }
+    }
+}
+
+/// An asphere step over the first `n` vectors of a chunk: Newton's
+/// iteration in lock step, one step for every vector still iterating per
+/// pass over the chunk, so that the vectors' chains of dependent operations
+/// overlap (one vector at a time waits on each division in turn). Each lane
+/// takes the steps the one-ray path takes, so the bits agree.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
+    s: &Step,
+    sl: &StepLanes<F64x4>,
+    a: &AsphereLanes<F64x4>,
+    src: &Rays4,
+    dst: &mut Rays4,
+    n: usize,
+    ix: &ChunkIndices,
+    bits: &mut Bits,
+) {
+    let mut st = [Newton4::default(); VECTORS];
+    for (j, to) in st[..n].iter_mut().enumerate() {
+        let (p, d, _) = load_rays(src, j);
+        to.put(&newton_start(a, [p[0], p[1], p[2] - sl.shift], d));
+    }
+    for _ in 0..MAX_NEWTON_STEPS {
+        let mut running = false;
+        for (j, at) in st[..n].iter_mut().enumerate() {
+            let mut nw = at.get();
+            if newton_running(&nw) {
+                let (_, d, _) = load_rays(src, j);
+                newton_step(a, d, &mut nw);
+                at.put_iter(&nw);
+                running = true;
+            }
+        }
+        if !running {
+            break;
+        }
+    }
+    for (j, at) in st[..n].iter().enumerate() {
+        let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
+        let (_, d, opl) = load_rays(src, j);
+        let h = newton_hit(a, d, &at.get());
+        store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &h, d, opl), bits);
     }
 }
 
@@ -674,13 +790,13 @@ fn stop_rays(
 ) {
     for i in ones(dying) {
         let (j, lane) = (i / 4, i % 4);
-        let [ok, inside] = [bits.ok, bits.inside].map(|m| m >> i & 1 != 0);
+        let [ok, converged, inside] = [bits.ok, bits.converged, bits.inside].map(|m| m >> i & 1 != 0);
         // a ray that met the surface inside its aperture and stopped was
         // totally reflected
-        let kind = kind_of(ok, inside, false);
+        let kind = kind_of(ok, converged, inside, false);
         let l = stopped(s, before.get(i), after.get(i), kind);
         done.set(i, Lane { pz: l.pz + s.vertex_z, ..l });
-        status[j][lane] = ((k as u64 + 1) << 2) | kind;
+        status[j][lane] = ((k as u64 + 1) << KIND_BITS) | kind;
         after.set(i, IDLE);
     }
 }

@@ -1,10 +1,12 @@
 //! Exact real-ray tracing. A [`Tracer`] lays a prescription out as steps for
 //! one direction of travel; [`step`] carries rays across one surface
-//! (intersection, clear aperture, refraction, verdict), written once over a
+//! (intersection, clear aperture, refraction, verdict), [`asphere`] the
+//! same for an aspheric surface (Newton's iteration), written once over a
 //! lane type (`lanes`) so that the one-ray path and the batch ([`batch`],
 //! AVX2 vectors of four rays) give the same bits. [`spectral`] traces rays of mixed wavelengths in one batch. [`mod@bench`] is the
 //! reproducible workload behind `lens bench`.
 
+pub mod asphere;
 pub mod batch;
 pub mod bench;
 pub mod ray;

@@ -72,6 +72,19 @@ pub enum Outcome {
         /// Optical path length, mm.
         opl: f64,
     },
+    /// Newton's iteration for the intersection with this aspheric surface
+    /// did not converge within its bound
+    /// ([`crate::trace::asphere::MAX_NEWTON_STEPS`] steps to
+    /// [`crate::trace::asphere::NEWTON_TOLERANCE_MM`]). The ray is as it left
+    /// the previous surface, as for [`Outcome::Missed`].
+    NotConverged {
+        /// 0-based surface index.
+        surface: usize,
+        /// The ray before the surface.
+        ray: Ray,
+        /// Optical path length, mm.
+        opl: f64,
+    },
 }
 
 impl Default for Outcome {
@@ -88,7 +101,8 @@ impl Outcome {
             Outcome::Reached { ray, .. }
             | Outcome::Missed { ray, .. }
             | Outcome::Blocked { ray, .. }
-            | Outcome::TotalInternalReflection { ray, .. } => ray,
+            | Outcome::TotalInternalReflection { ray, .. }
+            | Outcome::NotConverged { ray, .. } => ray,
         }
     }
 
@@ -106,7 +120,8 @@ impl Outcome {
             Outcome::Reached { opl, .. }
             | Outcome::Missed { opl, .. }
             | Outcome::Blocked { opl, .. }
-            | Outcome::TotalInternalReflection { opl, .. } => opl,
+            | Outcome::TotalInternalReflection { opl, .. }
+            | Outcome::NotConverged { opl, .. } => opl,
         }
     }
 }

@@ -13,6 +13,8 @@
 //! ray of its own wavelength - reads top to bottom in one place, the order a
 //! ray meets them.
 
+use super::asphere::{asphere_step, AsphereLanes};
+use crate::model::surface::Asphere;
 use crate::model::Surface;
 use crate::simd::lanes::{Mask, Real};
 use glam::DVec3;
@@ -288,8 +290,11 @@ pub(crate) struct Step {
     pub surface: usize,
     /// Whether the indices differ (otherwise the direction is kept exactly).
     pub refract: bool,
-    /// How the surface is met: [`PLANE`], [`FLAT`] or [`CURVED`].
+    /// How the surface is met: [`PLANE`], [`FLAT`], [`CURVED`] or
+    /// [`ASPHERE`].
     pub shape: u8,
+    /// The conic and terms of an [`ASPHERE`] step.
+    pub asphere: Option<Asphere>,
 }
 
 /// [`Step::glass_before`] of a medium of constant index.
@@ -304,9 +309,16 @@ pub(crate) const FLAT: u8 = 1;
 /// `(G - s sqrt(disc)) / c`, a multiplication.
 pub(crate) const CURVED: u8 = 2;
 
-/// The [`Step::shape`] of a surface of curvature `c`.
-pub(crate) fn shape_of(c: f64) -> u8 {
-    if c == 0.0 {
+/// An asphere (a conic, polynomial terms): Newton's iteration
+/// (`asphere.rs`).
+pub(crate) const ASPHERE: u8 = 3;
+
+/// The [`Step::shape`] of a surface of curvature `c` (an asphere when
+/// `aspheric`).
+pub(crate) fn shape_of(c: f64, aspheric: bool) -> u8 {
+    if aspheric {
+        ASPHERE
+    } else if c == 0.0 {
         PLANE
     } else if is_curved(c) {
         CURVED
@@ -328,6 +340,12 @@ pub(crate) const PASSED: u64 = 0;
 pub(crate) const MISSED: u64 = 1;
 pub(crate) const BLOCKED: u64 = 2;
 pub(crate) const TIR: u64 = 3;
+/// Newton's iteration on an asphere did not converge.
+pub(crate) const NOT_CONVERGED: u64 = 4;
+/// Bits of a batch status that hold the kind; the step above them.
+pub(crate) const KIND_BITS: u32 = 3;
+/// The kind's bits of a status.
+pub(crate) const KIND_MASK: u64 = (1 << KIND_BITS) - 1;
 
 /// The state of rays in a step's local frame: one ray (`f64`) or one per
 /// lane of a vector ([`Real`]).
@@ -356,6 +374,8 @@ impl Lane<f64> {
 pub(crate) struct Verdict<M> {
     /// The ray met the surface.
     pub ok: M,
+    /// ... where an asphere's iteration converged (always for a sphere).
+    pub converged: M,
     /// ... inside its clear aperture.
     pub inside: M,
     /// ... and was refracted (no total internal reflection).
@@ -368,22 +388,30 @@ impl<M: Mask> Verdict<M> {
     /// The verdict from the three tests.
     #[inline(always)]
     pub(crate) fn of(ok: M, inside: M, through: M) -> Self {
-        Verdict { ok, inside, through, passed: ok & inside & through }
+        Verdict { ok, converged: M::all_true(), inside, through, passed: ok & inside & through }
+    }
+
+    /// The verdict of a step that may not converge (an asphere).
+    #[inline(always)]
+    pub(crate) fn with_convergence(ok: M, converged: M, inside: M, through: M) -> Self {
+        Verdict { ok, converged, inside, through, passed: ok & converged & inside & through }
     }
 }
 
 impl Verdict<bool> {
     /// The outcome kind of one ray's step.
     pub(crate) fn kind(self) -> u64 {
-        kind_of(self.ok, self.inside, self.through)
+        kind_of(self.ok, self.converged, self.inside, self.through)
     }
 }
 
 /// The outcome kind from the three tests, in the order they apply.
 #[inline(always)]
-pub(crate) fn kind_of(ok: bool, inside: bool, through: bool) -> u64 {
+pub(crate) fn kind_of(ok: bool, converged: bool, inside: bool, through: bool) -> u64 {
     if !ok {
         MISSED
+    } else if !converged {
+        NOT_CONVERGED
     } else if !inside {
         BLOCKED
     } else if !through {
@@ -397,11 +425,11 @@ pub(crate) fn kind_of(ok: bool, inside: bool, through: bool) -> u64 {
 #[derive(Clone, Copy)]
 pub(crate) struct StepLanes<L> {
     pub c: L,
-    sd2: L,
-    mu: L,
+    pub sd2: L,
+    pub mu: L,
     mu2: L,
     one_minus_mu2: L,
-    n_before: L,
+    pub n_before: L,
     pub shift: L,
     /// `1 / c` for a [`CURVED`] sphere (0 otherwise).
     pub radius: L,
@@ -571,11 +599,12 @@ fn refract_at<L: Real>(s: &StepLanes<L>, h: &LaneHit<L>, d: [L; 3], root_k: L) -
 /// The state of one ray that stopped at step `s` with kind `kind` (not
 /// [`PASSED`]), from its state `before` the step and the step's result
 /// `next`: a missed ray keeps its direction and stays where it was (moved
-/// into the step's frame); one blocked or totally reflected moves to the hit
-/// and keeps its direction.
+/// into the step's frame), as does one whose asphere iteration did not
+/// converge; one blocked or totally reflected moves to the hit and keeps its
+/// direction.
 #[inline(always)]
 pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -> Lane<f64> {
-    if kind == MISSED {
+    if kind == MISSED || kind == NOT_CONVERGED {
         Lane { pz: before.pz - s.shift, ..before }
     } else {
         Lane { dx: before.dx, dy: before.dy, dz: before.dz, ..next }
@@ -586,6 +615,10 @@ pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -
 /// kernel's constants.
 #[inline(always)]
 pub(crate) fn step_dispatch<L: Real>(s: &Step, k: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
+    if let (ASPHERE, Some(a)) = (s.shape, &s.asphere) {
+        let a = AsphereLanes::of(s.c, a);
+        return if s.refract { asphere_step::<L, true>(k, &a, l) } else { asphere_step::<L, false>(k, &a, l) };
+    }
     match (s.refract, s.shape) {
         (true, PLANE) => step_lanes::<L, true, PLANE>(k, l),
         (true, FLAT) => step_lanes::<L, true, FLAT>(k, l),
@@ -621,7 +654,8 @@ pub(crate) fn surface_step(
         vertex_z,
         surface: i,
         refract: n1 != n2,
-        shape: shape_of(surf.curvature),
+        shape: shape_of(surf.curvature, surf.asphere.is_some()),
+        asphere: surf.asphere,
     }
 }
 

@@ -92,6 +92,7 @@ impl Tracer {
             surface: s.len(),
             refract: false,
             shape: PLANE,
+            asphere: None,
         });
         Tracer::with_glasses(steps, p)
     }
@@ -263,6 +264,7 @@ impl Tracer {
             PASSED => Outcome::Reached { ray, opl },
             MISSED => Outcome::Missed { surface, ray, opl },
             BLOCKED => Outcome::Blocked { surface, ray, opl },
+            NOT_CONVERGED => Outcome::NotConverged { surface, ray, opl },
             _ => Outcome::TotalInternalReflection { surface, ray, opl },
         }
     }

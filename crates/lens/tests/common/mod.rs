@@ -4,7 +4,7 @@
 use lens::{Prescription, PrescriptionSpec, SurfaceSpec};
 
 pub fn surf(radius: Option<f64>, thickness: f64, ior: Option<f64>, sd: f64, stop: bool) -> SurfaceSpec {
-    SurfaceSpec { radius, thickness, ior, glass: None, semi_diameter: Some(sd), stop }
+    SurfaceSpec { ior, semi_diameter: Some(sd), stop, ..SurfaceSpec::new(radius, thickness) }
 }
 
 /// A singlet: radii r1, r2 (None = plane), centre thickness t, index n,

@@ -1,0 +1,318 @@
+//! The aspheric surface step: the ray's intersection with a conic plus
+//! polynomial terms by Newton's method, started from the conic's exact
+//! root, and refraction at the exact normal there. Written once over the
+//! lane type, as the sphere step (`step.rs`), so the one-ray and the batch
+//! paths agree bit for bit; docs/architecture.md gives the method.
+//!
+//! The sag is z(r) = c r^2 / (1 + sqrt(1 - (1 + k) c^2 r^2)) + sum_j a_j r^j
+//! ([`crate::model::surface::Asphere`]). With the ray at `q + u d` (`q` where
+//! it crosses the vertex plane), Newton's iteration on `F(u) = z(u) -
+//! sag(r(u))` is `u <- u - F / F'`, `F' = d . N` with the surface normal
+//! `N = (-g x, -g y, 1)`, `g = (dz/dr) / r`.
+
+use super::step::{refract_lanes, snell_root, Lane, StepLanes, StepOut, Verdict};
+use crate::model::surface::{Asphere, MAX_ASPHERE_POWER};
+use crate::simd::lanes::{Mask, Real};
+
+/// Newton steps at most before a ray is reported as not converged. From
+/// the conic's root a smooth asphere converges quadratically in 2 to 5.
+pub const MAX_NEWTON_STEPS: usize = 32;
+
+/// Newton's iteration stops when its step is at most this, mm.
+pub const NEWTON_TOLERANCE_MM: f64 = 1e-12;
+
+/// An asphere's numbers in the kernel's number type.
+#[derive(Clone, Copy)]
+pub(crate) struct AsphereLanes<L> {
+    /// Base curvature, 1/mm.
+    c: L,
+    /// `1 + k`.
+    k1: L,
+    /// `(1 + k) c^2`.
+    k1c2: L,
+    /// Coefficients: for an even asphere of r^2, r^4, ... (a polynomial in
+    /// r^2); otherwise of r^1, r^2, ... (a polynomial in r).
+    a: [L; MAX_ASPHERE_POWER],
+    /// The derivative's coefficients: `2 a_2, 4 a_4, ...` (even: of
+    /// r^0, r^2, ..., so that with them `g = (dz/dr) / r` needs no
+    /// division) or `1 a_1, 2 a_2, ...` (of r^0, r^1, ...).
+    da: [L; MAX_ASPHERE_POWER],
+    /// Terms used.
+    n: usize,
+    /// Every term has an even power.
+    even: bool,
+}
+
+impl<L: Real> AsphereLanes<L> {
+    /// The kernel's numbers for `asphere` on a base of curvature `c`.
+    pub(crate) fn of(c: f64, asphere: &Asphere) -> Self {
+        let even = asphere.is_even();
+        let degree = asphere.degree();
+        let mut a = [L::splat(0.0); MAX_ASPHERE_POWER];
+        let mut da = [L::splat(0.0); MAX_ASPHERE_POWER];
+        let n = if even { degree / 2 } else { degree };
+        for i in 0..n {
+            // even: term i is r^(2i + 2); otherwise r^(i + 1)
+            let (power, coef) =
+                if even { (2 * i + 2, asphere.coefficients[2 * i + 1]) } else { (i + 1, asphere.coefficients[i]) };
+            a[i] = L::splat(coef);
+            da[i] = L::splat(power as f64 * coef);
+        }
+        let k1 = 1.0 + asphere.conic;
+        AsphereLanes { c: L::splat(c), k1: L::splat(k1), k1c2: L::splat(k1 * c * c), a, da, n, even }
+    }
+
+    /// The polynomial part at `(x, y)`: its sag `P` and `Q = (dP/dr) / r`
+    /// (no division for an even asphere; for odd terms `r = 0` only on the
+    /// axis, where `x = y = 0` and `Q`'s value does not matter: it is kept
+    /// finite).
+    #[inline(always)]
+    fn poly(&self, s: L) -> (L, L) {
+        if self.n == 0 {
+            return (L::splat(0.0), L::splat(0.0));
+        }
+        // even: sum a_2i s^i = s (a_2 + s (a_4 + ...)), Q = sum 2i a_2i
+        // s^(i-1); odd: sum a_j r^j = r (a_1 + r (a_2 + ...)), dP/dr = sum
+        // j a_j r^(j-1)
+        let v = if self.even { s } else { s.sqrt() };
+        let mut p = self.a[self.n - 1];
+        let mut dp = self.da[self.n - 1];
+        for i in (0..self.n - 1).rev() {
+            p = p.fma(v, self.a[i]);
+            dp = dp.fma(v, self.da[i]);
+        }
+        if self.even {
+            (p * s, dp)
+        } else {
+            let r_or_one = L::select(v.le(L::splat(0.0)), L::splat(1.0), v);
+            (p * v, dp / r_or_one)
+        }
+    }
+}
+
+/// Where rays meet an asphere, per lane.
+#[derive(Clone, Copy)]
+pub(crate) struct AsphereHit<L: Real> {
+    /// Distance along the ray from its start, mm.
+    pub t: L,
+    pub x: L,
+    pub y: L,
+    pub z: L,
+    /// The normal at the hit, not unit: `(-x (c + m Q), -y (c + m Q), m)`
+    /// with `m = 1 - (1 + k) c w` > 0 (the conic's square root at the hit)
+    /// and `Q` as [`AsphereLanes::poly`] gives it; `(0, 0, 1)` at the vertex.
+    pub n: [L; 3],
+    /// The ray met the surface where it is defined.
+    pub ok: L::Mask,
+    /// Newton's iteration converged (meaningful where `ok`).
+    pub converged: L::Mask,
+}
+
+/// Newton's iteration for rays meeting an asphere, per lane, between its
+/// steps: what [`newton_start`] sets up, [`newton_step`] advances and
+/// [`newton_hit`] turns into the hit. Flags are numbers, negative for true,
+/// so that the batch can keep them in its buffers.
+#[derive(Clone, Copy)]
+pub(crate) struct Newton<L> {
+    /// The ray's start, mm (the surface's frame).
+    pub p: [L; 3],
+    /// Distance along the ray from its start, mm.
+    pub u: L,
+    /// The lane's step was at most the tolerance: it left the iteration.
+    pub converged: L,
+    /// The lane left the surface's domain: it left the iteration.
+    pub missed: L,
+}
+
+/// A flag as a number: -1 for true, +1 for false.
+#[inline(always)]
+fn flag<L: Real>(m: L::Mask) -> L {
+    L::select(m, L::splat(-1.0), L::splat(1.0))
+}
+
+/// The start of the intersection of the ray `p + t d` (unit `d`, the
+/// asphere's frame) with the asphere `a`: the conic's root near the vertex,
+/// the rationalised root of its quadratic `A t^2 + 2 B t + C = 0`, with
+/// `A = c (1 + k dz^2)`, `B = c (p . d) + k c pz dz - dz` and
+/// `C = c |p|^2 + k c pz^2 - 2 pz`; where the line misses the conic, the
+/// root of its linear part, `-C / 2B`.
+#[inline(always)]
+pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> Newton<L> {
+    let one = L::splat(1.0);
+    let k = a.k1 - one;
+    let kc = k * a.c;
+    let qa = a.c * k.fma(d[2] * d[2], one);
+    // c (p . d) + k c pz dz - dz
+    let qb = a.c.fma(p[2].fma(d[2], p[0].fma(d[0], p[1] * d[1])), (kc * p[2]).fma(d[2], -d[2]));
+    // c |p|^2 + k c pz^2 - 2 pz
+    let qc = a.c.fma(p[2].fma(p[2], p[0].fma(p[0], p[1] * p[1])), (kc * p[2]).fma(p[2], -(p[2] + p[2])));
+    let disc = qb.fma(qb, -(qa * qc));
+    let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
+    let u = -qc / (qb + root.or(qb.sign_bit()));
+    Newton { p, u, converged: L::splat(1.0), missed: flag::<L>(!u.is_finite()) }
+}
+
+/// One step of Newton's iteration for the lanes still in it; the others
+/// are left as they are, so a lane's numbers do not depend on how long its
+/// neighbours iterate.
+///
+/// The iteration solves the surface in implicit form, free of square
+/// roots: with `w = z - P(r)` the height above the polynomial part, the
+/// conic `G = c r^2 - 2 w + (1 + k) c w^2 = 0`, whose root near the vertex
+/// (`m = 1 - (1 + k) c w > 0`) is the sag. A lane leaves when its step is at
+/// most [`NEWTON_TOLERANCE_MM`] (taking that step) or when it leaves the
+/// conic's domain (a miss).
+#[inline(always)]
+pub(crate) fn newton_step<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newton<L>) {
+    let one = L::splat(1.0);
+    let two = L::splat(2.0);
+    let k1c = a.k1 * a.c;
+    let x = st.u.fma(d[0], st.p[0]);
+    let y = st.u.fma(d[1], st.p[1]);
+    let z = st.u.fma(d[2], st.p[2]);
+    let s = x.fma(x, y * y);
+    let (pp, q) = a.poly(s);
+    let w = z - pp;
+    let m = (-k1c).fma(w, one);
+    // G = c s + w (k1c w - 2); G' = 2 c (r . d) - 2 m (dz - Q (r . d))
+    let g = a.c.fma(s, w * k1c.fma(w, -two));
+    let rd = x.fma(d[0], y * d[1]);
+    let gp = two * a.c.fma(rd, -(m * (-q).fma(rd, d[2])));
+    let du = g / gp;
+    let bad = (-a.k1c2).fma(s, one).is_neg() | !du.is_finite();
+    let active = !(st.converged.is_neg() | st.missed.is_neg());
+    let now = active & !bad & du.abs().le(L::splat(NEWTON_TOLERANCE_MM));
+    st.u = L::select(active & !bad, st.u - du, st.u);
+    st.missed = flag::<L>(st.missed.is_neg() | (active & bad));
+    st.converged = flag::<L>(st.converged.is_neg() | now);
+}
+
+/// Whether any lane is still iterating.
+#[inline(always)]
+pub(crate) fn newton_running<L: Real>(st: &Newton<L>) -> bool {
+    (!(st.converged.is_neg() | st.missed.is_neg())).any()
+}
+
+/// The hit after the iteration, with the normal there.
+#[inline(always)]
+pub(crate) fn newton_hit<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> AsphereHit<L> {
+    let x = st.u.fma(d[0], st.p[0]);
+    let y = st.u.fma(d[1], st.p[1]);
+    let z = st.u.fma(d[2], st.p[2]);
+    let (pp, q) = a.poly(x.fma(x, y * y));
+    let m = (-(a.k1 * a.c)).fma(z - pp, L::splat(1.0));
+    let cq = m.fma(q, a.c);
+    let n = [-(x * cq), -(y * cq), m];
+    let near = !m.le(L::splat(0.0));
+    let missed = st.missed.is_neg();
+    AsphereHit { t: st.u, x, y, z, n, ok: !missed & near, converged: st.converged.is_neg() & !missed }
+}
+
+/// Intersects the ray `p + t d` (unit `d`, the asphere's frame) with the
+/// asphere `a`: [`newton_start`], then [`newton_step`] until every lane has
+/// left the iteration or [`MAX_NEWTON_STEPS`] were taken.
+#[inline(always)]
+pub(crate) fn meet_asphere<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
+    let mut st = newton_start(a, p, d);
+    for _ in 0..MAX_NEWTON_STEPS {
+        if !newton_running(&st) {
+            break;
+        }
+        newton_step(a, d, &mut st);
+    }
+    newton_hit(a, d, &st)
+}
+
+/// An asphere step: shift into the surface's frame, intersect
+/// ([`meet_asphere`]), clip by the clear aperture, refract at the unit
+/// normal. `REFRACT` must be the step's `refract`.
+#[inline(always)]
+pub(crate) fn asphere_step<L: Real, const REFRACT: bool>(
+    s: &StepLanes<L>,
+    a: &AsphereLanes<L>,
+    l: Lane<L>,
+) -> StepOut<L> {
+    let p = [l.px, l.py, l.pz - s.shift];
+    let d = [l.dx, l.dy, l.dz];
+    asphere_carry::<L, REFRACT>(s, &meet_asphere(a, p, d), d, l.opl)
+}
+
+/// The rest of an asphere step after the hit `h` of the ray of direction
+/// `d` and path length `opl`: clip, refract at the unit normal, add the
+/// path.
+#[inline(always)]
+pub(crate) fn asphere_carry<L: Real, const REFRACT: bool>(
+    s: &StepLanes<L>,
+    h: &AsphereHit<L>,
+    d: [L; 3],
+    opl: L,
+) -> StepOut<L> {
+    let inside = !(s.sd2 - h.x.fma(h.x, h.y * h.y)).is_neg();
+    let ([dx, dy, dz], through) = if REFRACT {
+        let [nx, ny, nz] = h.n;
+        let inv = L::splat(1.0) / nz.fma(nz, nx.fma(nx, ny * ny)).sqrt();
+        let n = [nx * inv, ny * inv, nz * inv];
+        let cos = d[2].fma(n[2], d[0].fma(n[0], d[1] * n[1]));
+        let (root_k, through) = snell_root::<L, REFRACT>(s, cos * cos);
+        (refract_lanes(d[0], d[1], d[2], n[0], n[1], n[2], s.mu, cos, root_k), through)
+    } else {
+        (d, L::Mask::all_true())
+    };
+    let next = Lane { px: h.x, py: h.y, pz: h.z, dx, dy, dz, opl: s.n_before.fma(h.t, opl) };
+    StepOut { next, verdict: Verdict::with_convergence(h.ok, h.converged, inside, through) }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::surface::sag;
+
+    fn unit(v: [f64; 3]) -> [f64; 3] {
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        [v[0] / n, v[1] / n, v[2] / n]
+    }
+
+    /// A conic of k = 0 is the sphere: the hit agrees with the sphere's sag
+    /// and lies on the surface to 1e-12 mm; a paraboloid's hit lies on z =
+    /// c r^2 / 2.
+    #[test]
+    fn hits_lie_on_the_surface() {
+        let sphere = AsphereLanes::<f64>::of(1.0 / 40.0, &Asphere::new(0.0, &[], &[]).unwrap());
+        let para = AsphereLanes::<f64>::of(1.0 / 40.0, &Asphere::new(-1.0, &[], &[]).unwrap());
+        let poly = Asphere::new(-0.7, &[1e-4, -3e-7, 2e-10], &[]).unwrap();
+        let polyl = AsphereLanes::<f64>::of(1.0 / 40.0, &poly);
+        let odd = Asphere::new(0.0, &[], &[1e-3, 0.0, -2e-6]).unwrap();
+        let oddl = AsphereLanes::<f64>::of(-1.0 / 60.0, &odd);
+        for (i, h0) in [0.0, 1.0, 5.0, 12.0, 20.0].iter().enumerate() {
+            let p = [*h0, 0.3 * i as f64, -25.0];
+            let d = unit([0.05, -0.02, 1.0]);
+            let hs = meet_asphere(&sphere, p, d);
+            assert!(hs.ok && hs.converged);
+            let r = (hs.x * hs.x + hs.y * hs.y).sqrt();
+            assert!((hs.z - sag(1.0 / 40.0, r).unwrap()).abs() < 1e-12);
+            let hp = meet_asphere(&para, p, d);
+            let r = (hp.x * hp.x + hp.y * hp.y).sqrt();
+            assert!((hp.z - r * r / 80.0).abs() < 1e-12);
+            let hq = meet_asphere(&polyl, p, d);
+            let r = (hq.x * hq.x + hq.y * hq.y).sqrt();
+            assert!(hq.converged && (hq.z - poly.sag(1.0 / 40.0, r).unwrap()).abs() < 1e-12);
+            let ho = meet_asphere(&oddl, p, d);
+            let r = (ho.x * ho.x + ho.y * ho.y).sqrt();
+            assert!(ho.converged && (ho.z - odd.sag(-1.0 / 60.0, r).unwrap()).abs() < 1e-12);
+        }
+    }
+
+    /// A ray outside a hyperbola-free ellipsoid's reach misses; a surface
+    /// Newton cannot follow (a wildly oscillating polynomial) is reported as
+    /// not converged, not as a hit.
+    #[test]
+    fn misses_and_non_convergence_are_typed() {
+        let ell = AsphereLanes::<f64>::of(1.0 / 10.0, &Asphere::new(3.0, &[], &[]).unwrap());
+        let h = meet_asphere(&ell, [8.0, 0.0, -5.0], [0.0, 0.0, 1.0]);
+        assert!(!h.ok);
+        let wild = Asphere::new(0.0, &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1e3], &[]).unwrap();
+        let w = AsphereLanes::<f64>::of(0.0, &wild);
+        let h = meet_asphere(&w, [1.2, 0.0, -5.0], unit([0.9, 0.0, 0.2]));
+        assert!(!(h.ok && h.converged), "t {}", h.t);
+    }
+}

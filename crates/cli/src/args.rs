@@ -12,7 +12,7 @@ use std::path::PathBuf;
 /// The prescription and an optional new stop size.
 #[derive(clap::Args, Debug, Clone)]
 pub struct LensArgs {
-    /// Prescription file (.json or pbrt .dat).
+    /// Prescription file (.json, pbrt .dat or Zemax .zmx).
     pub file: PathBuf,
     /// Resize the stop so the paraxial f-number (object at infinity) is N;
     /// refused, naming the limiting surface, when the other clear
@@ -85,15 +85,17 @@ impl LensArgs {
 #[derive(clap::Args, Debug, Clone)]
 pub struct ObjectArgs {
     /// Object distance in mm in front of the first vertex (`inf` for
-    /// infinity, the default).
+    /// infinity; default: the prescription's `object_distance_mm`, or
+    /// infinity).
     #[arg(long, value_name = "MM", allow_hyphen_values = true)]
     pub object_distance: Option<f64>,
 }
 
 impl ObjectArgs {
-    /// The object, infinity by default.
-    pub fn object(&self) -> Result<ObjectDistance, lens::OpticsError> {
-        ObjectDistance::from_mm(self.object_distance.unwrap_or(f64::INFINITY))
+    /// The object: the flag's, else the prescription's design distance,
+    /// else infinity.
+    pub fn object(&self, p: &lens::Prescription) -> Result<ObjectDistance, lens::OpticsError> {
+        ObjectDistance::from_mm(self.object_distance.or(p.object_distance_mm()).unwrap_or(f64::INFINITY))
     }
 }
 

@@ -1,4 +1,5 @@
-//! `lens convert`: write any readable prescription as JSON.
+//! `lens convert`: write any readable prescription as JSON or as a Zemax
+//! `.zmx` file.
 
 use crate::args::LensArgs;
 use crate::CmdResult;
@@ -9,19 +10,26 @@ use std::process::ExitCode;
 pub struct Args {
     #[command(flatten)]
     lens: LensArgs,
-    /// Output JSON file (standard output when omitted).
+    /// Output file: `.json` (our format) or `.zmx` (Zemax, UTF-16 LE as
+    /// OpticStudio writes it); JSON on standard output when omitted.
     #[arg(short, long)]
     output: Option<PathBuf>,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    a.lens.check_output(a.output.as_deref(), "-o", &["json"])?;
+    a.lens.check_output(a.output.as_deref(), "-o", &["json", "zmx"])?;
     let p = a.lens.load()?;
-    let text = p.to_spec().to_json_string() + "\n";
     match a.output {
-        Some(path) => lens::io::files::write_bytes_atomic(&path, text.as_bytes())
-            .map_err(|e| format!("{}: cannot write: {e}", path.display()))?,
-        None => out!("{text}"),
+        Some(path) => {
+            let bytes = if lens::io::is_zemax(&path) {
+                lens::io::zemax::text::encode_utf16le(&lens::io::zemax::write(&p))
+            } else {
+                (p.to_spec().to_json_string() + "\n").into_bytes()
+            };
+            lens::io::files::write_bytes_atomic(&path, &bytes)
+                .map_err(|e| format!("{}: cannot write: {e}", path.display()))?
+        }
+        None => out!("{}", p.to_spec().to_json_string() + "\n"),
     }
     Ok(ExitCode::SUCCESS)
 }

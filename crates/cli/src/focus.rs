@@ -46,7 +46,7 @@ pub fn run(a: Args) -> CmdResult {
         }
         return Ok(ExitCode::SUCCESS);
     }
-    let object = a.object.object()?;
+    let object = a.object.object(&p)?;
     let f = lens::analysis::focus::focus(&p, object)?;
     if a.out.json {
         print_json(&json!({

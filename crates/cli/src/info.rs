@@ -21,7 +21,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> CmdResult {
     let (_, p) = a.lens.load_at(a.wavelength.wavelength_nm)?;
-    let object = a.object.object()?;
+    let object = a.object.object(&p)?;
     let f = FirstOrder::of(&p)?;
     let limit = clear_aperture_limit(&p, &f);
     let img = imaging(&p, &f, object)?;

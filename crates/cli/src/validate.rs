@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Prescription files (.json or pbrt .dat).
+    /// Prescription files (.json, pbrt .dat or Zemax .zmx).
     #[arg(required = true)]
     files: Vec<PathBuf>,
     /// Print one JSON object per file: {"file", "valid", "findings": [...]}.

@@ -139,12 +139,9 @@ proptest! {
          prop::option::of(prop_oneof![Just(0.0), Just(-1.0), 0.0f64..50.0]),
          any::<bool>()), 0..8)) {
         let spec = PrescriptionSpec {
-            wavelengths_nm: None,
-            primary_wavelength_nm: None,
-            glass_catalogs: None,
-            name: None, source: None, units: None,
             surfaces: rows.iter().map(|&(radius, thickness, ior, semi_diameter, stop)| lens::SurfaceSpec {
                 ior, semi_diameter, stop, ..lens::SurfaceSpec::new(radius, thickness) }).collect(),
+            ..PrescriptionSpec::default()
         };
         let _ = validate(&spec);
         if let Ok(p) = Prescription::from_spec(&spec) {

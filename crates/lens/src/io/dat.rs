@@ -66,8 +66,8 @@ pub fn parse_dat(text: &str, origin: &str) -> Result<PrescriptionSpec, LoadError
         units: Some("mm".into()),
         wavelengths_nm: None,
         primary_wavelength_nm: None,
-        glass_catalogs: None,
         surfaces,
+        ..PrescriptionSpec::default()
     };
     focus_last_thickness_at_infinity(&mut spec);
     Ok(spec)

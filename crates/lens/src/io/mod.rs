@@ -1,10 +1,11 @@
-//! Prescription files in and out: JSON (our format) and pbrt-v4 `.dat`,
-//! chosen by the file's extension. Nothing here computes optics; the model
+//! Prescription files in and out: JSON (our format), pbrt-v4 `.dat` and
+//! Zemax `.zmx`, chosen by the file's extension. Nothing here computes optics; the model
 //! is in [`crate::model`].
 
 pub mod dat;
 pub mod files;
 pub mod json;
+pub mod zemax;
 
 use crate::error::LoadError;
 use crate::glass::{Catalog, Catalogs};
@@ -12,8 +13,20 @@ use crate::model::{Prescription, PrescriptionSpec};
 use std::path::Path;
 
 /// Reads a prescription file as written, without validating it: pbrt-v4
-/// `.dat` when the extension is `dat`, JSON otherwise.
+/// `.dat` when the extension is `dat`, Zemax when it is `zmx` (glasses
+/// looked up in the shipped catalogues), JSON otherwise.
 pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
+    load_spec_with(path, Catalogs::shipped())
+}
+
+/// Whether `path` names a Zemax lens file (extension `zmx`).
+pub fn is_zemax(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zmx"))
+}
+
+/// [`load_spec`] with a Zemax file's glasses looked up in `catalogs` (its
+/// `GCAT` vendors first); JSON and `.dat` do not use them.
+pub fn load_spec_with(path: &Path, catalogs: &Catalogs) -> Result<PrescriptionSpec, LoadError> {
     let bytes = files::read_bounded(path, files::MAX_TEXT_BYTES).map_err(|e| match e {
         files::ReadError::Io { path, source } => LoadError::Io { path, source },
         e @ files::ReadError::TooLarge { .. } => {
@@ -21,6 +34,14 @@ pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
         }
     })?;
     let origin = path.display().to_string();
+    if is_zemax(path) {
+        let (text, _) = zemax::text::decode(&bytes).map_err(|message| LoadError::Zemax {
+            origin: origin.clone(),
+            line: 0,
+            message,
+        })?;
+        return zemax::read(&text, catalogs).map_err(|e| LoadError::Zemax { origin, line: e.line, message: e.message });
+    }
     let text = String::from_utf8(bytes).map_err(|e| {
         let good = &e.as_bytes()[..e.utf8_error().valid_up_to()];
         let line = 1 + good.iter().filter(|b| **b == b'\n').count();
@@ -47,8 +68,13 @@ impl Prescription {
     /// the command line).
     pub fn load_with(path: impl AsRef<Path>, extra: Vec<Catalog>) -> Result<Self, LoadError> {
         let path = path.as_ref();
-        let spec = load_spec(path)?;
         let origin = path.display().to_string();
+        if is_zemax(path) {
+            let catalogs = Catalogs::with(extra);
+            let spec = load_spec_with(path, &catalogs)?;
+            return Self::from_spec_with(&spec, &catalogs).map_err(|findings| LoadError::Invalid { origin, findings });
+        }
+        let spec = load_spec(path)?;
         let mut catalogs = extra;
         let dir = path.parent().unwrap_or(Path::new("."));
         for name in spec.glass_catalogs.iter().flatten() {

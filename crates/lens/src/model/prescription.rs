@@ -33,6 +33,10 @@ pub struct Prescription {
     wavelength_nm: f64,
     /// AGF catalogues named in the file, as written.
     glass_catalogs: Option<Vec<String>>,
+    /// The design's field angles, degrees.
+    fields_deg: Option<Vec<f64>>,
+    /// The design's object distance, mm (`None`: infinity).
+    object_distance_mm: Option<f64>,
 }
 
 impl Prescription {
@@ -113,6 +117,8 @@ impl Prescription {
             primary_nm,
             wavelength_nm: primary_nm,
             glass_catalogs: spec.glass_catalogs.clone(),
+            fields_deg: spec.fields_deg.clone(),
+            object_distance_mm: spec.object_distance_mm,
         })
     }
 
@@ -136,6 +142,18 @@ impl Prescription {
         }
         p.wavelength_nm = wavelength_nm;
         Ok(p)
+    }
+
+    /// The field angles the design is for, degrees (empty when the file
+    /// names none).
+    pub fn fields_deg(&self) -> &[f64] {
+        self.fields_deg.as_deref().unwrap_or(&[])
+    }
+
+    /// The object distance the design is for, mm in front of the first
+    /// vertex; `None` for infinity.
+    pub fn object_distance_mm(&self) -> Option<f64> {
+        self.object_distance_mm
     }
 
     /// The wavelength the surfaces' indices are for, nm.
@@ -182,6 +200,8 @@ impl Prescription {
             wavelengths_nm: (self.wavelengths_nm != DEFAULT_WAVELENGTHS_NM).then(|| self.wavelengths_nm.clone()),
             primary_wavelength_nm: (self.primary_nm != LINE_D_NM).then_some(self.primary_nm),
             glass_catalogs: self.glass_catalogs.clone(),
+            fields_deg: self.fields_deg.clone(),
+            object_distance_mm: self.object_distance_mm,
             surfaces: self
                 .surfaces
                 .iter()

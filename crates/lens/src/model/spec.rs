@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 /// }"#, "<doc>").unwrap();
 /// assert_eq!(spec.surfaces.len(), 2);
 /// ```
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PrescriptionSpec {
     /// Human-readable name.
@@ -40,6 +40,15 @@ pub struct PrescriptionSpec {
     /// searched before the shipped ones.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub glass_catalogs: Option<Vec<String>>,
+    /// The field angles the design is for, degrees from the axis (as a
+    /// design file lists them; analyses take their field as a flag).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fields_deg: Option<Vec<f64>>,
+    /// The object distance the design is for, mm in front of the first
+    /// vertex; omitted means infinity. `lens info` uses it unless given
+    /// `--object-distance`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object_distance_mm: Option<f64>,
     /// Surfaces, object side first.
     pub surfaces: Vec<SurfaceSpec>,
 }

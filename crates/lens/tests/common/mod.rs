@@ -22,13 +22,8 @@ pub fn singlet(r1: Option<f64>, r2: Option<f64>, t: f64, n: f64, sd: f64, film: 
         sd *= 0.9;
     }
     let spec = PrescriptionSpec {
-        wavelengths_nm: None,
-        primary_wavelength_nm: None,
-        glass_catalogs: None,
-        name: None,
-        source: None,
-        units: None,
         surfaces: vec![surf(r1, t, Some(n), sd, true), surf(r2, film, None, sd, false)],
+        ..PrescriptionSpec::default()
     };
     Prescription::from_spec(&spec).expect("valid singlet")
 }

@@ -1,0 +1,393 @@
+//! Reading a Zemax sequential lens file (`.zmx`) into our format. What is
+//! read, how, and what is refused: docs/zemax.md.
+
+use crate::glass::Catalogs;
+use crate::model::{GlassSpec, Prescription, PrescriptionSpec, SurfaceSpec};
+use crate::paraxial::FirstOrder;
+
+/// A problem with a Zemax file: what, where (1-based line, 0 for the whole
+/// file) and what to change.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ZemaxError {
+    /// 1-based line, 0 when the problem is the file as a whole.
+    pub line: usize,
+    /// What is wrong and what to change.
+    pub message: String,
+}
+
+/// How the file sets the aperture.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Aperture {
+    /// `ENPD`: the entrance pupil's diameter, lens units.
+    EntrancePupil(f64),
+    /// `FNUM`: the image-space f-number (object at infinity).
+    FNumber(f64),
+    /// `FLOA`: the stop's own semi-diameter (`DIAM`).
+    FloatByStop,
+}
+
+/// One `SURF` block as read.
+#[derive(Debug, Clone, Default)]
+struct Block {
+    number: usize,
+    line: usize,
+    kind: Option<(String, usize)>,
+    curv: f64,
+    disz: Option<f64>,
+    conic: f64,
+    parm: [f64; 9],
+    glass: Option<(Vec<String>, usize)>,
+    diam: Option<f64>,
+    clap: Option<f64>,
+    stop: bool,
+}
+
+/// Every value of the file that the prescription needs.
+#[derive(Debug, Default)]
+struct File {
+    name: Option<String>,
+    scale: f64,
+    aperture: Option<Aperture>,
+    field_type: Option<i64>,
+    field_count: Option<usize>,
+    wave_count: Option<usize>,
+    xfields: Vec<f64>,
+    yfields: Vec<f64>,
+    waves: Vec<(usize, f64)>,
+    primary: Option<usize>,
+    gcat: Vec<String>,
+    blocks: Vec<Block>,
+}
+
+/// Reads the text of a Zemax file into a prescription spec: glass names
+/// resolved through `catalogs` (the vendors `GCAT` lists first) and written
+/// `VENDOR:NAME`, the stop's semi-diameter set so that the entrance pupil or
+/// f-number is the file's, lengths in mm.
+pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError> {
+    let file = parse(text)?;
+    let mut spec = to_spec(&file, catalogs)?;
+    set_aperture(&file, &mut spec, catalogs)?;
+    Ok(spec)
+}
+
+fn err(line: usize, message: impl Into<String>) -> ZemaxError {
+    ZemaxError { line, message: message.into() }
+}
+
+/// A number token of line `line` (`what` names it in the error).
+fn number(tok: Option<&&str>, line: usize, what: &str) -> Result<f64, ZemaxError> {
+    let t = tok.ok_or_else(|| err(line, format!("{what}: a number is missing")))?;
+    if t.eq_ignore_ascii_case("INFINITY") {
+        return Ok(f64::INFINITY);
+    }
+    t.replace(',', ".")
+        .parse::<f64>()
+        .ok()
+        .filter(|x| !x.is_nan())
+        .ok_or_else(|| err(line, format!("{what}: \"{t}\" is not a number")))
+}
+
+/// The surface types read, and what the others are, for the error.
+fn surface_type(name: &str) -> Result<(), String> {
+    match name {
+        "STANDARD" | "EVENASPH" | "ODDASPHE" => Ok(()),
+        "COORDBRK" => Err("a coordinate break (tilts and decentres)".into()),
+        "TOROIDAL" | "BICONICX" | "BICONIC" => Err("a toroidal or biconic surface (not rotationally symmetric)".into()),
+        "DGRATING" | "ELLIGRAT" | "VARGRAT" | "BINARY_1" | "BINARY_2" => Err("a grating or diffractive surface".into()),
+        "PARAXIAL" | "PARAX_XY" => Err("a paraxial (ideal) lens".into()),
+        "NONSEQCO" => Err("a non-sequential component".into()),
+        "GRINSUR1" | "GRINSUR4" | "GRINSUR5" | "GRADIENT" => Err("a gradient-index surface".into()),
+        other => Err(format!("type {other}")),
+    }
+}
+
+/// Unit tokens of `UNIT` and their length in mm.
+fn unit_scale(unit: &str) -> Option<f64> {
+    match unit.to_ascii_uppercase().as_str() {
+        "MM" => Some(1.0),
+        "CM" => Some(10.0),
+        "IN" => Some(25.4),
+        "METER" | "M" => Some(1000.0),
+        _ => None,
+    }
+}
+
+fn parse(text: &str) -> Result<File, ZemaxError> {
+    let mut f = File { scale: 1.0, ..File::default() };
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let tok: Vec<&str> = raw.split_whitespace().collect();
+        let Some(&key) = tok.first() else { continue };
+        let block = f.blocks.last_mut();
+        match key {
+            "MODE" => {
+                if tok.get(1).is_some_and(|m| *m != "SEQ") {
+                    return Err(err(
+                        line,
+                        "MODE is not SEQ: only sequential systems are read (non-sequential data is not)",
+                    ));
+                }
+            }
+            "NAME" => f.name = Some(tok[1..].join(" ")).filter(|n| !n.is_empty()),
+            "UNIT" => {
+                let u = tok.get(1).copied().unwrap_or("MM");
+                f.scale = unit_scale(u)
+                    .ok_or_else(|| err(line, format!("UNIT {u}: lens units must be MM, CM, IN or METER")))?;
+            }
+            "ENPD" => f.aperture = Some(Aperture::EntrancePupil(number(tok.get(1), line, "ENPD")?)),
+            "FNUM" => f.aperture = Some(Aperture::FNumber(number(tok.get(1), line, "FNUM")?)),
+            "FLOA" => f.aperture = Some(Aperture::FloatByStop),
+            "OBNA" | "ONAX" | "NAIS" => {
+                return Err(err(
+                    line,
+                    format!("{key}: an aperture by numerical aperture is not supported; set ENPD or FNUM in the file"),
+                ))
+            }
+            "GCAT" => f.gcat = tok[1..].iter().map(|s| s.to_string()).collect(),
+            "FTYP" => {
+                let int = |k: usize| tok.get(k).and_then(|t| t.parse::<i64>().ok());
+                f.field_type = int(1);
+                f.field_count = int(3).and_then(|n| usize::try_from(n).ok());
+                f.wave_count = int(4).and_then(|n| usize::try_from(n).ok());
+            }
+            "XFLN" | "XFLD" | "YFLN" | "YFLD" => {
+                let v = tok[1..].iter().map(|t| number(Some(t), line, key)).collect::<Result<Vec<_>, _>>()?;
+                if key.starts_with('X') {
+                    f.xfields = v;
+                } else {
+                    f.yfields = v;
+                }
+            }
+            "WAVM" => {
+                let slot = number(tok.get(1), line, "WAVM slot")? as usize;
+                f.waves.retain(|w| w.0 != slot);
+                f.waves.push((slot, number(tok.get(2), line, "WAVM wavelength")?));
+            }
+            "WAVL" => {
+                for (k, t) in tok[1..].iter().enumerate() {
+                    f.waves.push((k + 1, number(Some(t), line, "WAVL")?));
+                }
+            }
+            "PWAV" => f.primary = Some(number(tok.get(1), line, "PWAV")? as usize),
+            "SURF" => {
+                let n = number(tok.get(1), line, "SURF")?;
+                f.blocks.push(Block { number: n as usize, line, ..Block::default() });
+            }
+            _ => {
+                let Some(b) = block else { continue };
+                match key {
+                    "TYPE" => {
+                        let t = tok.get(1).copied().unwrap_or("STANDARD").to_string();
+                        if let Err(what) = surface_type(&t) {
+                            return Err(err(
+                                line,
+                                format!(
+                                    "surface {}: TYPE {t} is {what}, which is not supported: only STANDARD, EVENASPH and ODDASPHE surfaces are read",
+                                    b.number
+                                ),
+                            ));
+                        }
+                        b.kind = Some((t, line));
+                    }
+                    "CURV" => b.curv = number(tok.get(1), line, "CURV")?,
+                    "DISZ" => b.disz = Some(number(tok.get(1), line, "DISZ")?),
+                    "CONI" => b.conic = number(tok.get(1), line, "CONI")?,
+                    "PARM" => {
+                        let k = number(tok.get(1), line, "PARM index")? as usize;
+                        let v = number(tok.get(2), line, "PARM value")?;
+                        if (1..=8).contains(&k) {
+                            b.parm[k] = v;
+                        } else if v != 0.0 {
+                            return Err(err(line, format!("surface {}: PARM {k} is not a term read here", b.number)));
+                        }
+                    }
+                    "GLAS" => b.glass = Some((tok[1..].iter().map(|s| s.to_string()).collect(), line)),
+                    "DIAM" => b.diam = Some(number(tok.get(1), line, "DIAM")?),
+                    "CLAP" => b.clap = Some(number(tok.get(2), line, "CLAP maximum radius")?),
+                    "STOP" => b.stop = true,
+                    "SQAP" | "ELAP" | "SPID" | "CLOB" | "SQOB" | "ELOB" | "UDAP" => {
+                        return Err(err(
+                            line,
+                            format!(
+                                "surface {}: {key} (a non-circular aperture or obscuration) is not supported",
+                                b.number
+                            ),
+                        ))
+                    }
+                    "DECX" | "DECY" | "TILTX" | "TILTY" | "TILTZ"
+                        if tok.get(1).and_then(|t| t.parse::<f64>().ok()).is_some_and(|v| v != 0.0) =>
+                    {
+                        return Err(err(
+                            line,
+                            format!("surface {}: {key} (a tilt or decentre) is not supported", b.number),
+                        ));
+                    }
+                    _ => {}
+                }
+            }
+        }
+    }
+    if f.blocks.len() < 3 {
+        return Err(err(0, "fewer than three SURF blocks: a Zemax lens has an object, a surface and an image"));
+    }
+    f.blocks.sort_by_key(|b| b.number);
+    Ok(f)
+}
+
+/// The glass after a surface, from its `GLAS` tokens.
+fn glass_of(b: &Block, gcat: &[String], catalogs: &Catalogs) -> Result<(Option<GlassSpec>, Option<f64>), ZemaxError> {
+    let Some((tok, line)) = &b.glass else { return Ok((None, None)) };
+    let line = *line;
+    let Some(name) = tok.first() else { return Ok((None, None)) };
+    if name.eq_ignore_ascii_case("MIRROR") {
+        return Err(err(line, format!("surface {}: MIRROR: reflecting surfaces are not supported", b.number)));
+    }
+    let model = tok.get(1).is_some_and(|t| t == "1") || name == "___BLANK";
+    if model {
+        let nd = number(tok.get(3).map(|s| s.as_str()).as_ref(), line, "model glass nd")?;
+        let vd = number(tok.get(4).map(|s| s.as_str()).as_ref(), line, "model glass vd")?;
+        if vd == 0.0 || vd >= super::write::NON_DISPERSIVE_ABBE {
+            // a constant index (as we write one)
+            return Ok((None, Some(nd)));
+        }
+        return Ok((Some(GlassSpec::Model { nd, vd }), None));
+    }
+    for vendor in gcat {
+        if let Ok(g) = catalogs.find(&format!("{vendor}:{name}")) {
+            return Ok((Some(GlassSpec::Name(g.full_name())), None));
+        }
+    }
+    match catalogs.find(name) {
+        Ok(g) => Ok((Some(GlassSpec::Name(g.full_name())), None)),
+        Err(e) => Err(err(
+            line,
+            format!(
+                "surface {}: glass {name} is not in the catalogues GCAT lists ({}) nor in any loaded one ({e}); give its AGF catalogue with --glass-catalog",
+                b.number,
+                if gcat.is_empty() { "none".to_string() } else { gcat.join(", ") }
+            ),
+        )),
+    }
+}
+
+fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError> {
+    let s = f.scale;
+    let n = f.blocks.len();
+    let object = &f.blocks[0];
+    let image = &f.blocks[n - 1];
+    if image.curv != 0.0 {
+        return Err(err(image.line, "the image surface is curved: only a flat film is supported"));
+    }
+    let mut surfaces = Vec::with_capacity(n - 2);
+    for b in &f.blocks[1..n - 1] {
+        let line = b.line;
+        let thickness = b.disz.unwrap_or(0.0);
+        if !thickness.is_finite() {
+            return Err(err(line, format!("surface {}: DISZ INFINITY: only the object may be at infinity", b.number)));
+        }
+        let (glass, ior) = glass_of(b, &f.gcat, catalogs)?;
+        let kind = b.kind.as_ref().map_or("STANDARD", |k| k.0.as_str());
+        let terms = |odd: bool| -> Option<Vec<f64>> {
+            let mut v: Vec<f64> = (1..=8)
+                .map(|k| {
+                    // the coefficient of r^j is in lens units^(1-j)
+                    let j = if odd { k } else { 2 * k } as i32;
+                    b.parm[k] * s.powi(1 - j)
+                })
+                .collect();
+            while v.last() == Some(&0.0) {
+                v.pop();
+            }
+            (!v.is_empty()).then_some(v)
+        };
+        let semi = b.clap.or(b.diam).filter(|d| *d > 0.0).map(|d| d * s);
+        surfaces.push(SurfaceSpec {
+            ior,
+            glass,
+            semi_diameter: semi,
+            stop: b.stop,
+            conic: (b.conic != 0.0).then_some(b.conic),
+            aspheric: if kind == "EVENASPH" { terms(false) } else { None },
+            odd_aspheric: if kind == "ODDASPHE" { terms(true) } else { None },
+            ..SurfaceSpec::new((b.curv != 0.0).then(|| 1.0 / (b.curv / s)), thickness * s)
+        });
+    }
+    if !surfaces.iter().any(|x| x.stop) {
+        // Zemax's default stop is surface 1
+        surfaces[0].stop = true;
+    }
+    // wavelengths: the declared slots, in order; the file's are in µm
+    let mut waves: Vec<(usize, f64)> = f.waves.clone();
+    waves.sort_by_key(|w| w.0);
+    if let Some(count) = f.wave_count.filter(|c| *c > 0) {
+        waves.retain(|w| w.0 <= count);
+    }
+    let nm: Vec<f64> = waves.iter().map(|w| w.1 * 1000.0).collect();
+    let primary = f.primary.and_then(|p| waves.iter().find(|w| w.0 == p)).map(|w| w.1 * 1000.0);
+    let mut fields: Vec<f64> = Vec::new();
+    if f.field_type.unwrap_or(0) == 0 {
+        let count = f.field_count.unwrap_or(f.xfields.len().max(f.yfields.len()));
+        for k in 0..count.min(f.xfields.len().max(f.yfields.len())) {
+            let x = f.xfields.get(k).copied().unwrap_or(0.0);
+            let y = f.yfields.get(k).copied().unwrap_or(0.0);
+            fields.push(if x == 0.0 { y } else { x.hypot(y) });
+        }
+    }
+    let object_distance = object.disz.filter(|d| d.is_finite()).map(|d| d * s);
+    Ok(PrescriptionSpec {
+        name: f.name.clone(),
+        source: None,
+        units: Some("mm".into()),
+        wavelengths_nm: (!nm.is_empty()).then_some(nm),
+        primary_wavelength_nm: primary,
+        fields_deg: (!fields.is_empty()).then_some(fields),
+        object_distance_mm: object_distance,
+        surfaces,
+        ..PrescriptionSpec::default()
+    })
+}
+
+/// Sets the stop's semi-diameter so that the paraxial entrance pupil (or
+/// the f-number) is the file's: the pupil scales with the stop.
+fn set_aperture(f: &File, spec: &mut PrescriptionSpec, catalogs: &Catalogs) -> Result<(), ZemaxError> {
+    let stop = spec.surfaces.iter().position(|x| x.stop).unwrap_or(0);
+    let given = spec.surfaces[stop].semi_diameter;
+    let aperture = f.aperture.unwrap_or(Aperture::FloatByStop);
+    if aperture == Aperture::FloatByStop {
+        if given.is_none() {
+            return Err(err(
+                0,
+                format!(
+                    "the aperture floats by the stop's size (FLOA, or no ENPD or FNUM) but the stop (surface {}) has no DIAM",
+                    stop + 1
+                ),
+            ));
+        }
+        return Ok(());
+    }
+    let target_ok = |v: f64| v.is_finite() && v > 0.0;
+    spec.surfaces[stop].semi_diameter = Some(given.unwrap_or(1.0));
+    let p = Prescription::from_spec_with(spec, catalogs).map_err(|findings| {
+        let list: Vec<String> =
+            findings.iter().filter(|x| x.severity == crate::model::Severity::Error).map(|x| x.to_string()).collect();
+        err(0, format!("the lens is not valid: {}", list.join("; ")))
+    })?;
+    let first = FirstOrder::of(&p).map_err(|e| err(0, format!("cannot set the aperture: {e}")))?;
+    let epd = match aperture {
+        Aperture::EntrancePupil(d) if target_ok(d) => d * f.scale,
+        Aperture::FNumber(n) if target_ok(n) => first.efl.abs() / n,
+        Aperture::EntrancePupil(v) | Aperture::FNumber(v) => {
+            return Err(err(0, format!("the aperture value {v} must be a positive number")))
+        }
+        Aperture::FloatByStop => unreachable!("handled above"),
+    };
+    let sd = spec.surfaces[stop].semi_diameter.unwrap_or(1.0) * epd / first.entrance_pupil.diameter;
+    if !target_ok(sd) {
+        return Err(err(
+            0,
+            "the stop cannot be sized for the file's aperture (the entrance pupil does not scale with it)",
+        ));
+    }
+    spec.surfaces[stop].semi_diameter = Some(sd);
+    Ok(())
+}

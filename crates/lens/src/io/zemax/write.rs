@@ -1,0 +1,121 @@
+//! Writing a prescription as a Zemax sequential lens file (`.zmx`), text
+//! that [`super::read`] and optical design programs read back.
+
+use crate::model::Prescription;
+use crate::paraxial::FirstOrder;
+
+/// The Abbe number a constant index is written with: a model glass this
+/// close to non-dispersive reads back as a constant index (0, which would
+/// say so directly, is a division by zero to other programs).
+pub const NON_DISPERSIVE_ABBE: f64 = 1e9;
+
+/// A number as Zemax files write them: enough digits to read back the same
+/// f64 (Rust's shortest round-trip form, in exponent notation).
+fn z(x: f64) -> String {
+    if x == 0.0 {
+        "0".into()
+    } else {
+        format!("{x:E}")
+    }
+}
+
+/// The prescription as the text of a `.zmx` file: lens units mm, the
+/// aperture as the paraxial entrance pupil diameter (`ENPD`, or `FLOA` for an
+/// afocal system), the wavelengths in µm with the primary, the design's
+/// field angles, an object surface at the design's distance (or infinity),
+/// one `SURF` per surface (`STANDARD`, `EVENASPH` or `ODDASPHE`), and the
+/// image. Catalogue glasses are written by name with their vendors in
+/// `GCAT`; model glasses as Zemax model glasses (`___BLANK`, type 1); a
+/// constant index as a model glass of Abbe number
+/// [`NON_DISPERSIVE_ABBE`] (its index changes by less than 1e-9 over the
+/// visible), which [`super::read`] reads back as a constant index.
+pub fn write(p: &Prescription) -> String {
+    let mut o = String::new();
+    let mut line = |s: String| {
+        o.push_str(&s);
+        o.push('\n');
+    };
+    line("VERS 190513 80 123457 L123457".into());
+    line("MODE SEQ".into());
+    line(format!("NAME {}", p.name().replace(['\n', '\r'], " ")));
+    line("UNIT MM X W X CM MR CPMM".into());
+    match FirstOrder::of(p) {
+        Ok(f) => line(format!("ENPD {}", z(f.entrance_pupil.diameter))),
+        Err(_) => line("FLOA".into()),
+    }
+    let mut vendors: Vec<String> = Vec::new();
+    for g in p.glasses() {
+        if g.catalog != "MODEL" && !vendors.contains(&g.catalog) {
+            vendors.push(g.catalog.clone());
+        }
+    }
+    if !vendors.is_empty() {
+        line(format!("GCAT {}", vendors.join(" ")));
+    }
+    let mut waves: Vec<f64> = p.wavelengths_nm().to_vec();
+    let primary = p.primary_wavelength_nm();
+    let pw = waves.iter().position(|w| *w == primary).unwrap_or_else(|| {
+        waves.push(primary);
+        waves.len() - 1
+    });
+    let fields: Vec<f64> = if p.fields_deg().is_empty() { vec![0.0] } else { p.fields_deg().to_vec() };
+    line(format!("FTYP 0 0 {} {} 0 0 0", fields.len(), waves.len()));
+    line(format!("XFLN {}", vec!["0"; fields.len()].join(" ")));
+    line(format!("YFLN {}", fields.iter().map(|f| z(*f)).collect::<Vec<_>>().join(" ")));
+    for (i, w) in waves.iter().enumerate() {
+        line(format!("WAVM {} {} 1", i + 1, z(w / 1000.0)));
+    }
+    line(format!("PWAV {}", pw + 1));
+    line("SURF 0".into());
+    line("  TYPE STANDARD".into());
+    line("  CURV 0".into());
+    line(match p.object_distance_mm() {
+        Some(d) => format!("  DISZ {}", z(d)),
+        None => "  DISZ INFINITY".into(),
+    });
+    for (i, s) in p.surfaces().iter().enumerate() {
+        line(format!("SURF {}", i + 1));
+        let kind = match &s.asphere {
+            Some(a) if a.degree() > 0 && !a.is_even() => "ODDASPHE",
+            Some(a) if a.degree() > 0 => "EVENASPH",
+            _ => "STANDARD",
+        };
+        if s.stop {
+            line("  STOP".into());
+        }
+        line(format!("  TYPE {kind}"));
+        line(format!("  CURV {} 0 0 0 0 \"\"", z(s.curvature)));
+        if let Some(a) = &s.asphere {
+            let terms = if kind == "ODDASPHE" { a.all_terms() } else { a.even_terms() };
+            for (k, t) in terms.iter().enumerate() {
+                line(format!("  PARM {} {}", k + 1, z(*t)));
+            }
+            if a.conic != 0.0 {
+                line(format!("  CONI {}", z(a.conic)));
+            }
+        }
+        line(format!("  DISZ {}", z(s.thickness)));
+        match s.glass.and_then(|g| p.glasses().get(g)) {
+            Some(g) if g.catalog == "MODEL" => {
+                let (nd, vd) = (g.catalog_nd.unwrap_or(s.ior), g.catalog_vd.unwrap_or(0.0));
+                line(format!("  GLAS ___BLANK 1 0 {} {} 0 0 0 0 0 0", z(nd), z(vd)));
+            }
+            Some(g) => {
+                let (nd, vd) = (g.catalog_nd.unwrap_or(0.0), g.catalog_vd.unwrap_or(0.0));
+                line(format!("  GLAS {} 0 0 {} {} 0 0 0 0 0 0", g.name, z(nd), z(vd)));
+            }
+            None if s.ior != 1.0 => {
+                line(format!("  GLAS ___BLANK 1 0 {} {} 0 0 0 0 0 0", z(s.ior), z(NON_DISPERSIVE_ABBE)))
+            }
+            None => {}
+        }
+        if let Some(sd) = s.semi_diameter {
+            line(format!("  DIAM {} 1 0 0 1 \"\"", z(sd)));
+        }
+    }
+    line(format!("SURF {}", p.surfaces().len() + 1));
+    line("  TYPE STANDARD".into());
+    line("  CURV 0".into());
+    line("  DISZ 0".into());
+    o
+}

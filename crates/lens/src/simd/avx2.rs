@@ -165,6 +165,10 @@ impl Real for F64x4 {
         F64x4(unsafe { _mm256_blendv_pd(b.0, a.0, m.0) })
     }
     #[inline(always)]
+    fn from_mask(m: M64x4) -> Self {
+        F64x4(m.0)
+    }
+    #[inline(always)]
     fn is_finite(self) -> M64x4 {
         // x * 0 is +-0 for finite x, NaN for infinities and NaN: no
         // constant to hold but zero

@@ -44,6 +44,9 @@ pub(crate) trait Real:
     fn le(self, o: Self) -> Self::Mask;
     /// `a` where `m` is true, `b` elsewhere.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// A mask held as a number, negative where true (so that
+    /// [`Self::is_neg`] reads it back): for a vector the mask's own bits.
+    fn from_mask(m: Self::Mask) -> Self;
 }
 
 /// Truth values, one per lane.
@@ -114,6 +117,14 @@ impl Real for f64 {
             a
         } else {
             b
+        }
+    }
+    #[inline(always)]
+    fn from_mask(m: bool) -> Self {
+        if m {
+            -1.0
+        } else {
+            1.0
         }
     }
 }

@@ -118,16 +118,20 @@ pub(crate) struct Newton<L> {
     pub p: [L; 3],
     /// Distance along the ray from its start, mm.
     pub u: L,
+    /// `Q` and `m` of the last evaluation, a step of at most the tolerance
+    /// from the hit: the normal there.
+    pub q: L,
+    pub m: L,
     /// The lane's step was at most the tolerance: it left the iteration.
     pub converged: L,
     /// The lane left the surface's domain: it left the iteration.
     pub missed: L,
 }
 
-/// A flag as a number: -1 for true, +1 for false.
+/// A flag as a number, negative for true ([`Real::from_mask`]).
 #[inline(always)]
 fn flag<L: Real>(m: L::Mask) -> L {
-    L::select(m, L::splat(-1.0), L::splat(1.0))
+    L::from_mask(m)
 }
 
 /// The start of the intersection of the ray `p + t d` (unit `d`, the
@@ -149,7 +153,7 @@ pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -
     let disc = qb.fma(qb, -(qa * qc));
     let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
     let u = -qc / (qb + root.or(qb.sign_bit()));
-    Newton { p, u, converged: L::splat(1.0), missed: flag::<L>(!u.is_finite()) }
+    Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: flag::<L>(!u.is_finite()) }
 }
 
 /// One step of Newton's iteration for the lanes still in it; the others
@@ -182,7 +186,10 @@ pub(crate) fn newton_step<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newt
     let bad = (-a.k1c2).fma(s, one).is_neg() | !du.is_finite();
     let active = !(st.converged.is_neg() | st.missed.is_neg());
     let now = active & !bad & du.abs().le(L::splat(NEWTON_TOLERANCE_MM));
-    st.u = L::select(active & !bad, st.u - du, st.u);
+    let step = active & !bad;
+    st.u = L::select(step, st.u - du, st.u);
+    st.q = L::select(step, q, st.q);
+    st.m = L::select(step, m, st.m);
     st.missed = flag::<L>(st.missed.is_neg() | (active & bad));
     st.converged = flag::<L>(st.converged.is_neg() | now);
 }
@@ -199,9 +206,8 @@ pub(crate) fn newton_hit<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>
     let x = st.u.fma(d[0], st.p[0]);
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
-    let (pp, q) = a.poly(x.fma(x, y * y));
-    let m = (-(a.k1 * a.c)).fma(z - pp, L::splat(1.0));
-    let cq = m.fma(q, a.c);
+    let m = st.m;
+    let cq = m.fma(st.q, a.c);
     let n = [-(x * cq), -(y * cq), m];
     let near = !m.le(L::splat(0.0));
     let missed = st.missed.is_neg();

@@ -698,7 +698,7 @@ fn store_out(dst: &mut Rays4, j: usize, out: &StepOut<F64x4>, bits: &mut Bits) {
 #[derive(Clone, Copy, Default)]
 struct Newton4 {
     start: [[f64; 4]; 3],
-    iter: [[f64; 4]; 3],
+    iter: [[f64; 4]; 5],
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -712,15 +712,15 @@ impl Newton4 {
     }
     #[inline(always)]
     fn put_iter(&mut self, n: &Newton<F64x4>) {
-        for (to, v) in self.iter.iter_mut().zip([n.u, n.converged, n.missed]) {
+        for (to, v) in self.iter.iter_mut().zip([n.u, n.q, n.m, n.converged, n.missed]) {
             v.store(to);
         }
     }
     #[inline(always)]
     fn get(&self) -> Newton<F64x4> {
         let p = self.start.map(|v| F64x4::load(&v));
-        let [u, converged, missed] = self.iter.map(|v| F64x4::load(&v));
-        Newton { p, u, converged, missed }
+        let [u, q, m, converged, missed] = self.iter.map(|v| F64x4::load(&v));
+        Newton { p, u, q, m, converged, missed }
     }
 }
 

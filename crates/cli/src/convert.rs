@@ -22,7 +22,7 @@ pub fn run(a: Args) -> CmdResult {
     match a.output {
         Some(path) => {
             let bytes = if lens::io::is_zemax(&path) {
-                lens::io::zemax::text::encode_utf16le(&lens::io::zemax::write(&p))
+                lens::io::zemax::text::encode_utf16le(&lens::io::zemax::write(&p)?)
             } else {
                 (p.to_spec().to_json_string() + "\n").into_bytes()
             };

@@ -33,7 +33,7 @@ fn every_shipped_lens_round_trips_through_zmx() {
     let mut n = 0;
     for path in shipped() {
         let p = Prescription::load(&path).unwrap();
-        let text = write(&p);
+        let text = write(&p).unwrap();
         let spec = read(&text, Catalogs::shipped()).unwrap_or_else(|e| panic!("{}: {e:?}", path.display()));
         let q = Prescription::from_spec(&spec).unwrap();
         assert_eq!(p.surfaces().len(), q.surfaces().len());

@@ -135,11 +135,14 @@ fn flag<L: Real>(m: L::Mask) -> L {
 }
 
 /// The start of the intersection of the ray `p + t d` (unit `d`, the
-/// asphere's frame) with the asphere `a`: the conic's root near the vertex,
-/// the rationalised root of its quadratic `A t^2 + 2 B t + C = 0`, with
-/// `A = c (1 + k dz^2)`, `B = c (p . d) + k c pz dz - dz` and
-/// `C = c |p|^2 + k c pz^2 - 2 pz`; where the line misses the conic, the
-/// root of its linear part, `-C / 2B`.
+/// asphere's frame) with the asphere `a`: a root of the conic's quadratic
+/// `A t^2 + 2 B t + C = 0`, with `A = c (1 + k dz^2)`,
+/// `B = c (p . d) + k c pz dz - dz` and `C = c |p|^2 + k c pz^2 - 2 pz`, on
+/// the conic's sheet through the vertex (`1 - (1 + k) c z > 0`): the
+/// rationalised root `-C / (B + s sqrt(B^2 - A C))` when it lies there,
+/// else the other, `(-B - s sqrt(..)) / A` (a strong hyperboloid's second
+/// sheet lies close in front of the vertex); where the line misses the
+/// conic, the root of its linear part, `-C / 2B`.
 #[inline(always)]
 pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> Newton<L> {
     let one = L::splat(1.0);
@@ -152,7 +155,13 @@ pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -
     let qc = a.c.fma(p[2].fma(p[2], p[0].fma(p[0], p[1] * p[1])), (kc * p[2]).fma(p[2], -(p[2] + p[2])));
     let disc = qb.fma(qb, -(qa * qc));
     let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
-    let u = -qc / (qb + root.or(qb.sign_bit()));
+    let far = qb + root.or(qb.sign_bit());
+    let near = -qc / far;
+    let other = -far / qa;
+    // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root
+    let k1c = a.k1 * a.c;
+    let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], p[2]), one).le(L::splat(0.0));
+    let u = L::select(on_sheet(near) | !on_sheet(other) | !other.is_finite(), near, other);
     Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: flag::<L>(!u.is_finite()) }
 }
 
@@ -305,6 +314,19 @@ mod tests {
             let ho = meet_asphere(&oddl, p, d);
             let r = (ho.x * ho.x + ho.y * ho.y).sqrt();
             assert!(ho.converged && (ho.z - odd.sag(-1.0 / 60.0, r).unwrap()).abs() < 1e-12);
+        }
+    }
+
+    /// A strong hyperboloid (k = -222, a phone lens's) has its second sheet
+    /// just in front of the vertex: the start takes the vertex's sheet.
+    #[test]
+    fn the_vertex_sheet_of_a_strong_hyperboloid_is_met() {
+        let h = AsphereLanes::<f64>::of(1.0 / 5.694, &Asphere::new(-222.1, &[], &[]).unwrap());
+        for y in [0.0, 0.5, 1.5] {
+            let hit = meet_asphere(&h, [0.0, y, -0.1], [0.0, 0.0, 1.0]);
+            assert!(hit.ok && hit.converged, "y {y}");
+            let want = Asphere::new(-222.1, &[], &[]).unwrap().sag(1.0 / 5.694, y).unwrap();
+            assert!((hit.z - want).abs() < 1e-12, "y {y}: {} vs {want}", hit.z);
         }
     }
 

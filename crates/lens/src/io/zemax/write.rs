@@ -29,7 +29,21 @@ fn z(x: f64) -> String {
 /// constant index as a model glass of Abbe number
 /// [`NON_DISPERSIVE_ABBE`] (its index changes by less than 1e-9 over the
 /// visible), which [`super::read`] reads back as a constant index.
-pub fn write(p: &Prescription) -> String {
+///
+/// Errors (naming the surface) when a surface has terms Zemax's types do
+/// not hold: odd-asphere terms beyond r^8 (`ODDASPHE` has eight).
+pub fn write(p: &Prescription) -> Result<String, String> {
+    for (i, s) in p.surfaces().iter().enumerate() {
+        if let Some(a) = &s.asphere {
+            if !a.is_even() && a.degree() > 8 {
+                return Err(format!(
+                    "surface {}: an odd asphere with terms to r^{}: Zemax's ODDASPHE holds r^1 to r^8 only; write JSON instead",
+                    i + 1,
+                    a.degree()
+                ));
+            }
+        }
+    }
     let mut o = String::new();
     let mut line = |s: String| {
         o.push_str(&s);
@@ -117,5 +131,5 @@ pub fn write(p: &Prescription) -> String {
     line("  TYPE STANDARD".into());
     line("  CURV 0".into());
     line("  DISZ 0".into());
-    o
+    Ok(o)
 }

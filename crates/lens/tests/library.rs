@@ -1,0 +1,153 @@
+//! The lens library: every lens validates, and its paraxial focal length
+//! (and f-number, where the source states one) is within 0.5% of what its
+//! source states. The table says where each figure comes from;
+//! docs/lenses.md lists the lenses with their layouts.
+
+use lens::paraxial::FirstOrder;
+use lens::Prescription;
+
+/// (file under lens-data/, stated focal length mm, stated f-number, where
+/// the figures come from).
+const LIBRARY: &[(&str, f64, Option<f64>, &str)] = &[
+    (
+        "library/fast-50mm-f1.4-us3552829.json",
+        50.0,
+        Some(1.4),
+        "US 3,552,829 Ex. 1 via the Photons to Photos Optical Bench file: Focal Length 50, F-Number 1.4",
+    ),
+    (
+        "library/phone-5.6mm-f3.5-us7535658.json",
+        5.555,
+        Some(3.5),
+        "US 7,535,658 via ray-optics' cell phone example: efl 5.555, f/# 3.5 in its first-order listing",
+    ),
+    (
+        "library/wide-28mm-f2.8-us3583791.json",
+        100.0,
+        Some(2.8),
+        "US 3,583,791 (Nikon): f = 100, F/2.8 (lentil database entry 12)",
+    ),
+    (
+        "library/primoplan-f1.9-de1387593.json",
+        100.0,
+        Some(1.9),
+        "Primoplan patent table, f = 100; f/1.9 (lentil database entry 10)",
+    ),
+    (
+        "library/takumar-35mm-f2-us3506336.json",
+        100.0,
+        Some(2.0),
+        "US 3,506,336 (Asahi): f = 100; f/2 (lentil database entry 7, 'SMC Takumar 35mm f2.0')",
+    ),
+    (
+        "library/flektagon-35mm-f2.8-de953471.json",
+        100.0,
+        Some(2.8),
+        "DE 953 471 (Zeiss Jena): f = 100; f/2.8 (lentil database entry 9, 'Flektagon 35mm f2.8')",
+    ),
+    (
+        "library/angenieux-double-gauss-us2701982.json",
+        100.0,
+        None,
+        "US 2,701,982 (Angenieux): f = 100 (lentil database entry 1; no f-number given)",
+    ),
+    (
+        "library/petzval-kodak-us2500046.json",
+        100.0,
+        None,
+        "US 2,500,046 (Kodak): f = 100 (lentil database entry 14; no f-number given)",
+    ),
+    ("library/biotar-de485798.json", 100.0, None, "DE 485 798 (Merte): f = 100 (lentil database entry 5)"),
+    ("library/takumar-us3451745.json", 100.0, None, "US 3,451,745 (Asahi): f = 100 (lentil database entry 6)"),
+    (
+        "achromat-doublet-100mm.json",
+        100.0,
+        None,
+        "Thorlabs AC254-100-A catalogue page: focal length 100.0 mm (no f-number stated)",
+    ),
+    ("cooke-triplet.json", 101.181, None, "W. J. Smith, Modern Optical Engineering, 4th ed., p. 119: EFL 101.181 mm"),
+    (
+        "telephoto-250mm.json",
+        250.0,
+        None,
+        "pbrt-v4 telephoto.250mm.dat: Sigler's super achromat (Smith, Modern Lens Design p. 175) scaled to 250 mm \
+         (its stop gives f/5.42 against the book's F/5.6: not the book's stop)",
+    ),
+    (
+        "wide-angle-22mm.json",
+        22.0,
+        None,
+        "pbrt-v4 wide.22mm.dat: Nakamura's wide angle (Smith, Modern Lens Design p. 360) scaled to 22 mm",
+    ),
+    (
+        "fisheye-10mm.json",
+        10.0,
+        None,
+        "pbrt-v4 fisheye.10mm.dat: Muller's 16 mm f/4 fisheye (Smith, Modern Lens Design p. 164) scaled to 10 mm \
+         (its stop gives f/3.95)",
+    ),
+];
+
+fn load(file: &str) -> Prescription {
+    let path = format!("{}/../../lens-data/{file}", env!("CARGO_MANIFEST_DIR"));
+    Prescription::load(&path).unwrap_or_else(|e| panic!("{file}: {e}"))
+}
+
+#[test]
+fn every_library_lens_has_its_sources_focal_length_and_f_number() {
+    for (file, efl, f_number, source) in LIBRARY {
+        let p = load(file);
+        assert!(p.source().is_some_and(|s| !s.is_empty()), "{file}: no source cited");
+        let f = FirstOrder::of(&p).unwrap();
+        let err = f.efl / efl - 1.0;
+        println!("{file}: efl {:.4} ({:+.3}% of {efl}), f/{:.4}", f.efl, 100.0 * err, f.f_number);
+        assert!(err.abs() <= 0.005, "{file}: efl {} against {efl} stated ({source})", f.efl);
+        if let Some(n) = f_number {
+            let e = f.f_number / n - 1.0;
+            assert!(e.abs() <= 0.005, "{file}: f/{} against f/{n} stated ({source})", f.f_number);
+        }
+    }
+}
+
+/// Every file in lens-data/library is in the table above (so each has its
+/// test), and validates without warnings.
+#[test]
+fn the_table_covers_the_library_folder() {
+    let dir = format!("{}/../../lens-data/library", env!("CARGO_MANIFEST_DIR"));
+    let mut n = 0;
+    for e in std::fs::read_dir(dir).unwrap() {
+        let name = e.unwrap().file_name().into_string().unwrap();
+        let key = format!("library/{name}");
+        assert!(LIBRARY.iter().any(|(f, ..)| *f == key), "{key} has no entry in the library test");
+        let spec =
+            lens::load_spec(std::path::Path::new(&format!("{}/../../lens-data/{key}", env!("CARGO_MANIFEST_DIR"))))
+                .unwrap();
+        let findings = lens::model::validate::validate(&spec);
+        assert!(findings.is_empty(), "{key}: {findings:?}");
+        n += 1;
+    }
+    assert!(n >= 10);
+}
+
+/// The phone lens's aspheres (odd terms to r^10, conics to k = -222):
+/// four rays at 25 degrees through its entrance pupil (the stop, at the
+/// first vertex) land on the film where an independent trace in 40-digit
+/// arithmetic puts them (`python3 tools/phone_lens_mpmath.py`), to 1e-12 mm.
+#[test]
+fn the_phone_lens_traces_as_a_40_digit_trace_does() {
+    use lens::{DVec3, Ray, Tracer};
+    let p = load("library/phone-5.6mm-f3.5-us7535658.json");
+    let t = Tracer::forward(&p);
+    let (s, c) = 25f64.to_radians().sin_cos();
+    let rep = p.stop_semi_diameter();
+    let mut worst = 0.0f64;
+    for (py, want) in
+        [(-0.5, 2.6366424284672254), (0.0, 2.6632112523578096), (0.5, 2.690119417131224), (0.98, 2.7165527883227788)]
+    {
+        let ray = Ray::new(DVec3::new(0.0, py * rep - 5.0 * s, -5.0 * c), DVec3::new(0.0, s, c)).unwrap();
+        let got = t.trace(ray).reached().unwrap_or_else(|| panic!("py {py}: {:?}", t.trace(ray)));
+        worst = worst.max((got.origin.y - want).abs());
+    }
+    println!("largest difference from the 40-digit trace: {worst:e} mm");
+    assert!(worst < 1e-12, "{worst:e} mm");
+}

@@ -1,0 +1,425 @@
+#!/usr/bin/env python3
+"""Writes the lens library, lens-data/library/*.json, from the prescriptions
+transcribed below, each with its source.
+
+Run from the repository root after `cargo build --release -p lens-cli`:
+
+    python3 tools/lens_library.py
+
+For each lens: the surfaces as the source gives them (radius, thickness,
+index nd and Abbe number vd as a model glass, the clear semi-diameter where
+the source gives one), the film at the paraxial focus for infinity (the
+source's back focus is printed beside it), and the stop sized so that the
+paraxial f-number is the source's (`lens convert --f-number`) unless the
+source gives the stop's diameter. The stated focal length and f-number are
+what crates/lens/tests/library.rs checks the files against.
+
+Sources and licences: patent tables are facts published by the patent
+offices. Transcriptions used: the Photons to Photos Optical Bench data files
+(photonstophotos.net, cited per lens), the lentil polynomial-optics lens
+database (github.com/zpelgrims/lentil, polynomial-optics/database/
+lenses.json, MIT licence; its housing radii are lentil's and used here as
+clear semi-diameters), ray-optics' cell phone example (github.com/mjhoptics/
+ray-optics, docs/source/examples/Cell_Phone_lens, BSD-3-Clause). Only
+numbers are taken, no code.
+"""
+
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+LENS = os.path.join("target", "release", "lens")
+OUT = os.path.join("lens-data", "library")
+
+# A surface: (radius or None for a plane, thickness, nd or None for air, vd,
+# semi-diameter or None, extra fields). The row marked "stop" is the stop.
+STOP = "stop"
+
+
+def glass(nd, vd):
+    return {"nd": nd, "vd": vd}
+
+
+LIBRARY = [
+    {
+        "file": "fast-50mm-f1.4-us3552829.json",
+        "name": "50 mm f/1.4 double Gauss (US 3,552,829 Example 1)",
+        "source": "US 3,552,829 (1971) Example 1, as transcribed in the Photons to Photos Optical Bench "
+        "(US3552829_Example01P): f = 50, F/1.4, clear diameters as given, Bf 36.5; the stop sized for f/1.4 (the "
+        "file's stop diameter, 24.1 mm, gives f/1.43)",
+        "efl": 50.0,
+        "f_number": 1.4,
+        "stated": "Optical Bench file: Focal Length 50, F-Number 1.4",
+        "stop_given": False,
+        "rows": [
+            (56.655, 5.24, 1.815, 45.2, 38.50 / 2),
+            (600.0, 0.565, None, None, 38.50 / 2),
+            (25.68, 6.56, 1.694, 54.6, 33.50 / 2),
+            (51.875, 0.80, None, None, 28.716 / 2),
+            (84.60, 2.255, 1.63003, 35.4, 34.00 / 2),
+            (17.295, 5.865, None, None, 24.50 / 2),
+            (STOP, 5.565, None, None, 24.10 / 2),
+            (-19.475, 2.855, 1.7918, 25.9, 24.00 / 2),
+            (246.02, 6.185, 1.8004, 42.7, 31.00 / 2),
+            (-35.965, 0.095, None, None, 31.00 / 2),
+            (-125.895, 4.05, 1.8004, 42.7, 31.50 / 2),
+            (-37.625, 0.095, None, None, 31.50 / 2),
+            (198.13, 4.05, 1.71615, 53.7, 31.50 / 2),
+            (-63.025, 36.5, None, None, 31.50 / 2),
+        ],
+    },
+    {
+        "file": "phone-5.6mm-f3.5-us7535658.json",
+        "name": "Cell phone camera lens 5.6 mm f/3.5, five aspheric elements (US 7,535,658)",
+        "source": "US 7,535,658 (2009), as entered in ray-optics' cell phone example (docs/source/examples/"
+        "Cell_Phone_lens): radii, thicknesses, nd/vd, conics (ray-optics' ec = 1 + k) and the odd-asphere terms "
+        "r^3..r^10 as given; clear semi-diameters as ray-optics traces them; efl 5.555 mm and f/3.5 as it lists them",
+        "efl": 5.555,
+        "f_number": 3.5,
+        "stated": "ray-optics' first-order listing of this model: efl 5.555, f/# 3.5",
+        "stop_given": False,
+        "rows": [
+            (STOP, 0.0, None, None, 0.79358),
+            (1.962, 1.19, 1.471, 76.6, 0.938, 2.153, [0, 0, -1.895e-2, 2.426e-2, -5.123e-2, 8.371e-4, 7.850e-3, 4.091e-3, -7.732e-3, -4.265e-3]),
+            (33.398, 0.93, None, None, 1.0837, 40.18, [0, 0, -4.966e-3, -1.434e-2, -6.139e-3, -9.284e-5, 6.438e-3, -5.72e-3, -2.385e-2, 1.108e-2]),
+            (-2.182, 0.75, 1.603, 27.5, 1.1338, 2.105, [0, 0, -4.388e-2, -2.555e-2, 5.16e-2, -4.307e-2, -2.831e-2, 3.162e-2, 4.630e-2, -4.877e-2]),
+            (-6.367, 0.1, None, None, 1.539, 3.382, [0, 0, -1.131e-1, -7.863e-2, 1.094e-1, 6.228e-3, -2.216e-2, -5.89e-3, 4.123e-3, 1.041e-3]),
+            (5.694, 0.89, 1.510, 56.2, 1.8254, -221.1, [0, 0, -7.876e-2, 7.02e-2, 1.575e-3, -9.958e-3, -7.322e-3, 6.914e-4, 2.54e-3, -7.65e-4]),
+            (9.192, 0.16, None, None, 2.3978, 0.9331, [0, 0, 9.694e-3, -2.516e-3, -3.606e-3, -2.497e-4, -6.84e-4, -1.414e-4, 2.932e-4, -7.284e-5]),
+            (1.674, 0.85, 1.510, 56.2, 2.482, -7.617, [0, 0, 7.429e-2, -6.933e-2, -5.811e-3, 2.396e-3, 2.100e-3, -3.119e-4, -5.552e-5, 7.969e-6]),
+            (1.509, 0.70, None, None, 2.9297, -2.707, [0, 0, 1.767e-3, -4.652e-2, 1.625e-2, -3.522e-3, -7.106e-4, 3.825e-4, 6.271e-5, -2.631e-5]),
+            (None, 0.40, 1.516, 64.1, 3.3067),
+            (None, 0.64, None, None, 3.4058),
+        ],
+    },
+    {
+        "file": "wide-28mm-f2.8-us3583791.json",
+        "name": "Retrofocus wide angle f/2.8, 75 degree field (US 3,583,791, Nikon), f = 100",
+        "source": "US 3,583,791 (1971, Nikon): 'a retrofocus-type wide angle lens having a relative aperture of F/2.8, "
+        "an angle of field of 75 degrees', example normalised to f = 100, as transcribed in the lentil lens database "
+        "(entry 12); clear semi-diameters are lentil's housing radii",
+        "efl": 100.0,
+        "f_number": 2.8,
+        "stated": "the patent: f = 100, F/2.8 (lentil entry 12, focal-length-mm-patent and notes)",
+        "stop_given": False,
+        "rows": [
+            (96.15, 7.0, 1.64, 58.1, 50),
+            (53.85, 17.38, None, None, 50),
+            (117.48, 5.59, 1.58904, 53.2, 45),
+            (69.93, 52.45, None, None, 45),
+            (106.64, 15.73, 1.76684, 46.2, 25),
+            (-188.11, 4.9, None, None, 25),
+            (-192.31, 15.38, 1.76684, 27.5, 25),
+            (-140.91, 9.58, None, None, 25),
+            (STOP, 10.0, None, None, 25),
+            (-65.04, 16.22, 1.7552, 27.5, 25),
+            (188.11, 2.52, None, None, 25),
+            (-323.43, 7.0, 1.713, 53.9, 25),
+            (-65.39, 0.18, None, None, 25),
+            (-8741.25, 6.64, 1.6583, 57.3, 30),
+            (-117.55, 129.97, None, None, 30),
+        ],
+    },
+    {
+        "file": "primoplan-f1.9-de1387593.json",
+        "name": "Meyer Primoplan f/1.9, f = 100 (the 58 mm f/1.9's design)",
+        "source": "Meyer-Optik Goerlitz Primoplan (1936), patent table normalised to f = 100 as transcribed in the "
+        "lentil lens database (entry 10, 'Primoplan 58mm f1.9', patent number as lentil gives it: DE1387593); "
+        "clear semi-diameters are lentil's housing radii",
+        "efl": 100.0,
+        "f_number": 1.9,
+        "stated": "lentil entry 10: focal-length-mm-patent 100; notes 'Primoplan 58mm f1.9'",
+        "stop_given": False,
+        "rows": [
+            (70.2, 10.9, 1.66, 51.1, 34.0),
+            (1450.1, 0.7, None, None, 34.0),
+            (43.3, 3.6, 1.648, 33.8, 34.0),
+            (26.9, 10.9, 1.623, 57.1, 25.0),
+            (54.0, 5.1, None, None, 25.0),
+            (STOP, 5.1, None, None, 25.0),
+            (-193.0, 3.6, 1.687, 31.3, 25.25),
+            (32.9, 11.2, None, None, 25.25),
+            (82.8, 23.6, 1.621, 53.2, 27.5),
+            (-52.8, 51.26, None, None, 27.5),
+        ],
+    },
+    {
+        "file": "takumar-35mm-f2-us3506336.json",
+        "name": "Asahi SMC Takumar 35 mm f/2 design (US 3,506,336), f = 100",
+        "source": "US 3,506,336 (1970, Asahi), example normalised to f = 100, as transcribed in the lentil lens "
+        "database (entry 7, 'SMC Takumar 35mm f2.0'); clear semi-diameters are lentil's housing radii",
+        "efl": 100.0,
+        "f_number": 2.0,
+        "stated": "lentil entry 7: focal-length-mm-patent 100; notes 'SMC Takumar 35mm f2.0'",
+        "stop_given": False,
+        "rows": [
+            (450.0, 7.0, 1.58913, 61.2, 35.0),
+            (80.137, 47.0, None, None, 30.0),
+            (-2300.0, 10.0, 1.762, 40.3, 25.0),
+            (-292.234, 2.0, None, None, 25.0),
+            (95.7, 18.0, 1.77252, 49.6, 25.0),
+            (-707.468, 1.0, None, None, 25.0),
+            (80.0, 8.0, 1.53172, 48.9, 25.0),
+            (84.488, 9.0, None, None, 25.0),
+            (STOP, 9.0, None, None, 25.0),
+            (-91.5, 6.5, 1.74077, 27.7, 25.0),
+            (98.025, 8.0, None, None, 25.0),
+            (1000.0, 4.0, 1.834, 37.2, 25.0),
+            (71.0, 19.0, 1.77252, 49.6, 25.0),
+            (-89.354, 0.5, None, None, 25.0),
+            (-600.0, 10.0, 1.77252, 49.6, 25.0),
+            (-110.648, 103.26, None, None, 25.0),
+        ],
+    },
+    {
+        "file": "flektagon-35mm-f2.8-de953471.json",
+        "name": "Zeiss Flektagon 35 mm f/2.8 design (DE 953 471), f = 100",
+        "source": "DE 953 471 (1956, Carl Zeiss Jena), example normalised to f = 100, as transcribed in the lentil "
+        "lens database (entry 9, 'Flektagon 35mm f2.8'); clear semi-diameters are lentil's housing radii",
+        "efl": 100.0,
+        "f_number": 2.8,
+        "stated": "lentil entry 9: focal-length-mm-patent 100; notes 'Flektagon 35mm f2.8'",
+        "stop_given": False,
+        "rows": [
+            (116.42, 6.89, 1.6244, 60.3, 40.0),
+            (65.01, 73.06, None, None, 35.0),
+            (67.32, 8.13, 1.6051, 42.2, 20.0),
+            (561.28, 1.24, None, None, 20.0),
+            (30.55, 9.65, 1.6583, 51.0, 17.5),
+            (68.68, 3.31, 1.6645, 35.9, 17.5),
+            (21.89, 9.37, None, None, 17.5),
+            (STOP, 11.03, None, None, 17.5),
+            (-26.36, 3.31, 1.7588, 26.7, 16.5),
+            (-37.41, 0.28, None, None, 16.5),
+            (-222.9, 2.76, 1.6204, 36.3, 16.5),
+            (183.48, 8.13, 1.6224, 60.3, 16.5),
+            (-37.84, 99.54, None, None, 16.5),
+        ],
+    },
+    {
+        "file": "angenieux-double-gauss-us2701982.json",
+        "name": "Angenieux large-aperture double Gauss (US 2,701,982), f = 100",
+        "source": "US 2,701,982 (1955, P. Angenieux), example normalised to f = 100, as transcribed in the lentil "
+        "lens database (entry 1, 'large aperture six element objective'); clear semi-diameters are lentil's "
+        "housing radii; the source states no f-number: the stop is lentil's (25.5 mm)",
+        "efl": 100.0,
+        "f_number": None,
+        "stated": "lentil entry 1: focal-length-mm-patent 100 (no f-number given)",
+        "stop_given": True,
+        "rows": [
+            (164.13, 10.99, 1.6751, 32.3, 54),
+            (559.2, 0.23, None, None, 54),
+            (100.12, 11.45, 1.6689, 46.7, 51),
+            (213.54, 0.23, None, None, 51),
+            (58.04, 22.95, 1.6913, 53.8, 41),
+            (2551.1, 2.58, 1.6751, 32.3, 41),
+            (32.39, 15.66, None, None, 27),
+            (STOP, 15.0, None, None, 25.5),
+            (-40.42, 2.74, 1.6992, 30.2, 25),
+            (192.98, 27.92, 1.6204, 60.2, 36),
+            (-55.53, 0.23, None, None, 36),
+            (192.98, 7.98, 1.6913, 53.8, 35),
+            (-225.3, 0.23, None, None, 35),
+            (175.09, 8.48, 1.6913, 53.8, 35),
+            (-203.55, 55.742, None, None, 35),
+        ],
+    },
+    {
+        "file": "petzval-kodak-us2500046.json",
+        "name": "Kodak Petzval projection lens (US 2,500,046), f = 100",
+        "source": "US 2,500,046 (1950, Eastman Kodak), 'Petzval type lens, f=100mm', as transcribed in the lentil "
+        "lens database (entry 14); clear semi-diameters and the stop (18 mm) are lentil's housing radii; "
+        "the source states no f-number",
+        "efl": 100.0,
+        "f_number": None,
+        "stated": "lentil entry 14: focal-length-mm-patent 100, notes 'Petzval type lens, f=100mm'",
+        "stop_given": True,
+        "rows": [
+            (70.97, 15.0, 1.523, 58.6, 23.0),
+            (-56.79, 4.5, 1.617, 38.5, 23.0),
+            (None, 24.0, None, None, 23.0),
+            (STOP, 25.3, None, None, 18.0),
+            (119.91, 3.8, 1.649, 33.8, 15.0),
+            (40.87, 0.9, None, None, 15.0),
+            (46.87, 7.4, 1.697, 56.1, 15.0),
+            (-282.05, 56.47, None, None, 15.0),
+        ],
+    },
+    {
+        "file": "biotar-de485798.json",
+        "name": "Zeiss Biotar (DE 485 798, Merte 1927), f = 100",
+        "source": "DE 485 798 (1927, W. Merte, Carl Zeiss), example normalised to f = 100, as transcribed in the "
+        "lentil lens database (entry 5); clear semi-diameters and the stop (22.5 mm) are lentil's housing radii; "
+        "the source as transcribed states no f-number",
+        "efl": 100.0,
+        "f_number": None,
+        "stated": "lentil entry 5: focal-length-mm-patent 100",
+        "stop_given": True,
+        "rows": [
+            (83.6, 10.75, 1.64238, 48.0, 35.0),
+            (321.0, 1.65, None, None, 35.0),
+            (44.8, 15.55, 1.62306, 56.9, 30.0),
+            (-1150.0, 5.05, 1.57566, 41.2, 30.0),
+            (28.3, 10.0, None, None, 22.5),
+            (STOP, 8.9, None, None, 22.5),
+            (-38.5, 5.05, 1.6727, 32.2, 22.5),
+            (50.5, 21.22, 1.64238, 48.0, 27.0),
+            (-53.2, 0.97, None, None, 27.0),
+            (106.0, 13.9, 1.64238, 48.0, 27.0),
+            (-120.0, 65.07, None, None, 27.0),
+        ],
+    },
+    {
+        "file": "takumar-us3451745.json",
+        "name": "Asahi Takumar, Biotar type (US 3,451,745), f = 100",
+        "source": "US 3,451,745 (1969, Asahi), example normalised to f = 100, as transcribed in the lentil lens "
+        "database (entry 6, 'Based on the Biotar design'); clear semi-diameters and the stop (26.4 mm) are lentil's "
+        "housing radii; the source as transcribed states no f-number",
+        "efl": 100.0,
+        "f_number": None,
+        "stated": "lentil entry 6: focal-length-mm-patent 100",
+        "stop_given": True,
+        "rows": [
+            (110.0, 10.0, 1.80416, 46.6, 42.0),
+            (588.748, 0.2, None, None, 42.0),
+            (51.6, 14.5, 1.79446, 45.4, 36.0),
+            (100.426, 3.5, None, None, 36.0),
+            (119.0, 3.0, 1.71736, 29.5, 32.4),
+            (32.792, 16.26, None, None, 26.4),
+            (STOP, 16.25, None, None, 26.4),
+            (-36.5, 2.0, 1.68893, 31.1, 26.4),
+            (131.5, 20.0, 1.77252, 49.6, 32.4),
+            (-56.806, 0.2, None, None, 32.4),
+            (-160.0, 8.5, 1.77252, 49.6, 32.4),
+            (-74.352, 0.2, None, None, 32.4),
+            (122.0, 9.5, 1.77252, 49.6, 32.4),
+            (2092.573, 63.31, None, None, 32.0),
+        ],
+    },
+]
+
+
+def surfaces(rows):
+    out = []
+    for row in rows:
+        r, t, nd, vd, sd = row[:5]
+        s = {}
+        if r == STOP:
+            s["stop"] = True
+        elif r is not None:
+            s["radius"] = r
+        s["thickness"] = t
+        if nd is not None:
+            s["glass"] = glass(nd, vd)
+        if sd is not None:
+            s["semi_diameter"] = round(sd, 6)
+        if len(row) > 5:
+            ec, coefs = row[5], row[6]
+            k = round(ec - 1.0, 10)
+            if k != 0:
+                s["conic"] = k
+            while coefs and coefs[-1] == 0:
+                coefs = coefs[:-1]
+            s["odd_aspheric"] = coefs
+        out.append(s)
+    return out
+
+
+def lens(*args):
+    return subprocess.run([LENS, *args], check=True, capture_output=True, text=True).stdout
+
+
+LIMIT = re.compile(r"surface (\d+) \(semi-diameter [^)]*\) limits the on-axis bundle")
+CROSS = re.compile(r"surfaces (\d+) and (\d+) cross inside their common aperture")
+
+
+def uncross(spec, path):
+    """Narrows the semi-diameters of neighbouring surfaces that cross (a
+    housing radius larger than the two surfaces allow) by 3% steps until
+    they do not; returns the surfaces changed (1-based)."""
+    changed = set()
+    for _ in range(200):
+        with open(path, "w") as f:
+            json.dump(spec, f)
+        run = subprocess.run([LENS, "validate", path], capture_output=True, text=True)
+        pairs = CROSS.findall(run.stdout)
+        if not pairs:
+            return sorted(changed)
+        for a, b in pairs:
+            for i in (int(a), int(b)):
+                s = spec["surfaces"][i - 1]
+                if "semi_diameter" in s and not s.get("stop"):
+                    s["semi_diameter"] = round(s["semi_diameter"] * 0.97, 4)
+                    changed.add(i)
+    raise SystemExit(f"{spec['name']}: surfaces still cross")
+
+
+def main():
+    os.makedirs(OUT, exist_ok=True)
+    for entry in LIBRARY:
+        spec = {"name": entry["name"], "source": entry["source"], "units": "mm", "surfaces": surfaces(entry["rows"])}
+        with tempfile.TemporaryDirectory() as tmp:
+            path = os.path.join(tmp, "lens.json")
+            narrowed = uncross(spec, path)
+            if narrowed:
+                spec["source"] += (
+                    "; semi-diameters of surfaces " + ", ".join(map(str, narrowed))
+                    + " narrowed from the housing radii until neighbouring surfaces do not cross"
+                )
+            with open(path, "w") as f:
+                json.dump(spec, f)
+            info = json.loads(lens("info", path, "--json"))
+            given_back_focus = spec["surfaces"][-1]["thickness"]
+            # the film at the paraxial focus for infinity
+            spec["surfaces"][-1]["thickness"] = round(info["bfl"], 6)
+            with open(path, "w") as f:
+                json.dump(spec, f)
+            target = os.path.join(OUT, entry["file"])
+            if entry["f_number"] is not None and not entry["stop_given"]:
+                sized = os.path.join(tmp, "sized.json")
+                widened = set()
+                for _ in range(100):
+                    run = subprocess.run(
+                        [LENS, "convert", path, "--f-number", str(entry["f_number"]), "-o", sized],
+                        capture_output=True,
+                        text=True,
+                    )
+                    if run.returncode == 0:
+                        break
+                    m = LIMIT.search(run.stderr)
+                    if not m:
+                        raise SystemExit(f"{entry['file']}: {run.stderr}")
+                    k = int(m.group(1))
+                    s = spec["surfaces"][k - 1]
+                    s["semi_diameter"] = round(s["semi_diameter"] * 1.03, 4)
+                    widened.add(k)
+                    with open(path, "w") as f:
+                        json.dump(spec, f)
+                else:
+                    raise SystemExit(f"{entry['file']}: cannot reach f/{entry['f_number']}")
+                if widened:
+                    spec["source"] += (
+                        "; semi-diameters of surfaces " + ", ".join(map(str, sorted(widened)))
+                        + f" widened from the housing radii to pass the f/{entry['f_number']} axial bundle"
+                    )
+                    with open(path, "w") as f:
+                        json.dump(spec, f)
+                    lens("convert", path, "--f-number", str(entry["f_number"]), "-o", sized)
+                text = open(sized).read()
+            else:
+                text = lens("convert", path)
+            data = json.loads(text)
+        with open(target, "w") as f:
+            json.dump(data, f, indent=2)
+            f.write("\n")
+        info = json.loads(lens("info", target, "--json"))
+        print(f"{entry['file']:44s} efl {info['efl']:9.4f} (stated {entry['efl']}, "
+              f"{100 * (info['efl'] / entry['efl'] - 1):+.2f}%)  f/{info['f_number']:.3f} "
+              f"(stated {entry['f_number']})  bfl {info['bfl']:.3f} (source {given_back_focus})")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

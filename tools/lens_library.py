@@ -48,12 +48,13 @@ LIBRARY = [
         "file": "fast-50mm-f1.4-us3552829.json",
         "name": "50 mm f/1.4 double Gauss (US 3,552,829 Example 1)",
         "source": "US 3,552,829 (1971) Example 1, as transcribed in the Photons to Photos Optical Bench "
-        "(US3552829_Example01P): f = 50, F/1.4, clear diameters as given, Bf 36.5; the stop sized for f/1.4 (the "
-        "file's stop diameter, 24.1 mm, gives f/1.43)",
+        "(US3552829_Example01P): f = 50, F/1.4, angle of view 46.7 degrees, Bf 36.5; clear diameters and the stop's "
+        "(24.1 mm) as the file gives them: the stop gives f/1.43 (at f/1.4 the marginal ray would need surfaces 4 and 5 "
+        "to cross)",
         "efl": 50.0,
         "f_number": 1.4,
         "stated": "Optical Bench file: Focal Length 50, F-Number 1.4",
-        "stop_given": False,
+        "stop_given": True,
         "rows": [
             (56.655, 5.24, 1.815, 45.2, 38.50 / 2),
             (600.0, 0.565, None, None, 38.50 / 2),
@@ -96,39 +97,12 @@ LIBRARY = [
         ],
     },
     {
-        "file": "wide-28mm-f2.8-us3583791.json",
-        "name": "Retrofocus wide angle f/2.8, 75 degree field (US 3,583,791, Nikon), f = 100",
-        "source": "US 3,583,791 (1971, Nikon): 'a retrofocus-type wide angle lens having a relative aperture of F/2.8, "
-        "an angle of field of 75 degrees', example normalised to f = 100, as transcribed in the lentil lens database "
-        "(entry 12); clear semi-diameters are lentil's housing radii",
-        "efl": 100.0,
-        "f_number": 2.8,
-        "stated": "the patent: f = 100, F/2.8 (lentil entry 12, focal-length-mm-patent and notes)",
-        "stop_given": False,
-        "rows": [
-            (96.15, 7.0, 1.64, 58.1, 50),
-            (53.85, 17.38, None, None, 50),
-            (117.48, 5.59, 1.58904, 53.2, 45),
-            (69.93, 52.45, None, None, 45),
-            (106.64, 15.73, 1.76684, 46.2, 25),
-            (-188.11, 4.9, None, None, 25),
-            (-192.31, 15.38, 1.76684, 27.5, 25),
-            (-140.91, 9.58, None, None, 25),
-            (STOP, 10.0, None, None, 25),
-            (-65.04, 16.22, 1.7552, 27.5, 25),
-            (188.11, 2.52, None, None, 25),
-            (-323.43, 7.0, 1.713, 53.9, 25),
-            (-65.39, 0.18, None, None, 25),
-            (-8741.25, 6.64, 1.6583, 57.3, 30),
-            (-117.55, 129.97, None, None, 30),
-        ],
-    },
-    {
         "file": "primoplan-f1.9-de1387593.json",
+        "automatic_field_deg": 20.4,
         "name": "Meyer Primoplan f/1.9, f = 100 (the 58 mm f/1.9's design)",
         "source": "Meyer-Optik Goerlitz Primoplan (1936), patent table normalised to f = 100 as transcribed in the "
         "lentil lens database (entry 10, 'Primoplan 58mm f1.9', patent number as lentil gives it: DE1387593); "
-        "clear semi-diameters are lentil's housing radii",
+        "clear semi-diameters made to pass the full stop on the axis and at the field given in the library's notes (tools/lens_library.py: lens convert --clear-apertures)",
         "efl": 100.0,
         "f_number": 1.9,
         "stated": "lentil entry 10: focal-length-mm-patent 100; notes 'Primoplan 58mm f1.9'",
@@ -148,9 +122,10 @@ LIBRARY = [
     },
     {
         "file": "takumar-35mm-f2-us3506336.json",
+        "automatic_field_deg": 31.7,
         "name": "Asahi SMC Takumar 35 mm f/2 design (US 3,506,336), f = 100",
         "source": "US 3,506,336 (1970, Asahi), example normalised to f = 100, as transcribed in the lentil lens "
-        "database (entry 7, 'SMC Takumar 35mm f2.0'); clear semi-diameters are lentil's housing radii",
+        "database (entry 7, 'SMC Takumar 35mm f2.0')",
         "efl": 100.0,
         "f_number": 2.0,
         "stated": "lentil entry 7: focal-length-mm-patent 100; notes 'SMC Takumar 35mm f2.0'",
@@ -176,9 +151,10 @@ LIBRARY = [
     },
     {
         "file": "flektagon-35mm-f2.8-de953471.json",
+        "automatic_field_deg": 31.7,
         "name": "Zeiss Flektagon 35 mm f/2.8 design (DE 953 471), f = 100",
         "source": "DE 953 471 (1956, Carl Zeiss Jena), example normalised to f = 100, as transcribed in the lentil "
-        "lens database (entry 9, 'Flektagon 35mm f2.8'); clear semi-diameters are lentil's housing radii",
+        "lens database (entry 9, 'Flektagon 35mm f2.8')",
         "efl": 100.0,
         "f_number": 2.8,
         "stated": "lentil entry 9: focal-length-mm-patent 100; notes 'Flektagon 35mm f2.8'",
@@ -201,10 +177,11 @@ LIBRARY = [
     },
     {
         "file": "angenieux-double-gauss-us2701982.json",
+        "automatic_field_deg": 20.0,
         "name": "Angenieux large-aperture double Gauss (US 2,701,982), f = 100",
         "source": "US 2,701,982 (1955, P. Angenieux), example normalised to f = 100, as transcribed in the lentil "
         "lens database (entry 1, 'large aperture six element objective'); clear semi-diameters are lentil's "
-        "housing radii; the source states no f-number: the stop is lentil's (25.5 mm)",
+        "the source states no f-number: the stop is lentil's housing radius (25.5 mm)",
         "efl": 100.0,
         "f_number": None,
         "stated": "lentil entry 1: focal-length-mm-patent 100 (no f-number given)",
@@ -229,9 +206,10 @@ LIBRARY = [
     },
     {
         "file": "petzval-kodak-us2500046.json",
+        "automatic_field_deg": 10.0,
         "name": "Kodak Petzval projection lens (US 2,500,046), f = 100",
         "source": "US 2,500,046 (1950, Eastman Kodak), 'Petzval type lens, f=100mm', as transcribed in the lentil "
-        "lens database (entry 14); clear semi-diameters and the stop (18 mm) are lentil's housing radii; "
+        "lens database (entry 14); the stop (18 mm) is lentil's housing radius; "
         "the source states no f-number",
         "efl": 100.0,
         "f_number": None,
@@ -249,35 +227,12 @@ LIBRARY = [
         ],
     },
     {
-        "file": "biotar-de485798.json",
-        "name": "Zeiss Biotar (DE 485 798, Merte 1927), f = 100",
-        "source": "DE 485 798 (1927, W. Merte, Carl Zeiss), example normalised to f = 100, as transcribed in the "
-        "lentil lens database (entry 5); clear semi-diameters and the stop (22.5 mm) are lentil's housing radii; "
-        "the source as transcribed states no f-number",
-        "efl": 100.0,
-        "f_number": None,
-        "stated": "lentil entry 5: focal-length-mm-patent 100",
-        "stop_given": True,
-        "rows": [
-            (83.6, 10.75, 1.64238, 48.0, 35.0),
-            (321.0, 1.65, None, None, 35.0),
-            (44.8, 15.55, 1.62306, 56.9, 30.0),
-            (-1150.0, 5.05, 1.57566, 41.2, 30.0),
-            (28.3, 10.0, None, None, 22.5),
-            (STOP, 8.9, None, None, 22.5),
-            (-38.5, 5.05, 1.6727, 32.2, 22.5),
-            (50.5, 21.22, 1.64238, 48.0, 27.0),
-            (-53.2, 0.97, None, None, 27.0),
-            (106.0, 13.9, 1.64238, 48.0, 27.0),
-            (-120.0, 65.07, None, None, 27.0),
-        ],
-    },
-    {
         "file": "takumar-us3451745.json",
+        "automatic_field_deg": 23.4,
         "name": "Asahi Takumar, Biotar type (US 3,451,745), f = 100",
         "source": "US 3,451,745 (1969, Asahi), example normalised to f = 100, as transcribed in the lentil lens "
-        "database (entry 6, 'Based on the Biotar design'); clear semi-diameters and the stop (26.4 mm) are lentil's "
-        "housing radii; the source as transcribed states no f-number",
+        "database (entry 6, 'Based on the Biotar design'); the stop (26.4 mm) is lentil's "
+        "the source as transcribed states no f-number",
         "efl": 100.0,
         "f_number": None,
         "stated": "lentil entry 6: focal-length-mm-patent 100",
@@ -329,7 +284,10 @@ def surfaces(rows):
 
 
 def lens(*args):
-    return subprocess.run([LENS, *args], check=True, capture_output=True, text=True).stdout
+    run = subprocess.run([LENS, *args], capture_output=True, text=True)
+    if run.returncode != 0:
+        raise SystemExit(f"lens {' '.join(args)}: {run.stderr}")
+    return run.stdout
 
 
 LIMIT = re.compile(r"surface (\d+) \(semi-diameter [^)]*\) limits the on-axis bundle")
@@ -363,7 +321,15 @@ def main():
         spec = {"name": entry["name"], "source": entry["source"], "units": "mm", "surfaces": surfaces(entry["rows"])}
         with tempfile.TemporaryDirectory() as tmp:
             path = os.path.join(tmp, "lens.json")
-            narrowed = uncross(spec, path)
+            auto = entry.get("automatic_field_deg")
+            if auto is not None:
+                # the source gives no clear apertures: only the stop's
+                for surf in spec["surfaces"]:
+                    if not surf.get("stop"):
+                        surf.pop("semi_diameter", None)
+                    elif not entry["stop_given"]:
+                        surf["semi_diameter"] = 1.0  # sized for the f-number below
+            narrowed = [] if auto is not None else uncross(spec, path)
             if narrowed:
                 spec["source"] += (
                     "; semi-diameters of surfaces " + ", ".join(map(str, narrowed))
@@ -378,7 +344,28 @@ def main():
             with open(path, "w") as f:
                 json.dump(spec, f)
             target = os.path.join(OUT, entry["file"])
-            if entry["f_number"] is not None and not entry["stop_given"]:
+            if auto is not None:
+                # the largest field, from the notes' down in 10% steps, whose
+                # full-stop bundle the lens passes without its surfaces'
+                # rims crossing (beyond it a design vignettes by intent)
+                sized = os.path.join(tmp, "sized.json")
+                field = auto
+                for _ in range(30):
+                    args = [LENS, "convert", path, "--clear-apertures", f"{field:.2f}", "-o", sized]
+                    if entry["f_number"] is not None and not entry["stop_given"]:
+                        args += ["--f-number", str(entry["f_number"])]
+                    if subprocess.run(args, capture_output=True, text=True).returncode == 0:
+                        break
+                    field *= 0.9
+                else:
+                    raise SystemExit(f"{entry['file']}: no field passes")
+                data = json.loads(open(sized).read())
+                data["source"] += (
+                    f"; clear semi-diameters pass the full stop on the axis and at {field:.1f} degrees"
+                    + (f" (at {auto} degrees the rims would cross: the design vignettes there)" if field < auto else "")
+                )
+                text = json.dumps(data)
+            elif entry["f_number"] is not None and not entry["stop_given"]:
                 sized = os.path.join(tmp, "sized.json")
                 widened = set()
                 for _ in range(100):

@@ -43,11 +43,16 @@ impl LensArgs {
         self.check_output(path, "--plot", &["svg", "png"])
     }
 
+    /// Loads the prescription as the file has it (its stop not resized).
+    pub fn load_as_written(&self) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
+        let extra = self.catalogs.user_catalogs()?;
+        Ok(lens::Prescription::load_with(&self.file, extra)?)
+    }
+
     /// Loads the prescription (at its primary wavelength) and resizes its
     /// stop if asked.
     pub fn load(&self) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
-        let extra = self.catalogs.user_catalogs()?;
-        let p = lens::Prescription::load_with(&self.file, extra)?;
+        let p = self.load_as_written()?;
         Ok(match self.f_number {
             Some(n) => lens::analysis::aperture::with_f_number(&p, n)?,
             None => p,

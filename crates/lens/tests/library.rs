@@ -12,20 +12,15 @@ const LIBRARY: &[(&str, f64, Option<f64>, &str)] = &[
     (
         "library/fast-50mm-f1.4-us3552829.json",
         50.0,
-        Some(1.4),
-        "US 3,552,829 Ex. 1 via the Photons to Photos Optical Bench file: Focal Length 50, F-Number 1.4",
+        None,
+        "US 3,552,829 Ex. 1 via the Photons to Photos Optical Bench file: Focal Length 50 (its F-Number 1.4 is \
+         nominal: the file's own stop diameter gives f/1.43, and f/1.4 would need two surfaces to cross)",
     ),
     (
         "library/phone-5.6mm-f3.5-us7535658.json",
         5.555,
         Some(3.5),
         "US 7,535,658 via ray-optics' cell phone example: efl 5.555, f/# 3.5 in its first-order listing",
-    ),
-    (
-        "library/wide-28mm-f2.8-us3583791.json",
-        100.0,
-        Some(2.8),
-        "US 3,583,791 (Nikon): f = 100, F/2.8 (lentil database entry 12)",
     ),
     (
         "library/primoplan-f1.9-de1387593.json",
@@ -57,7 +52,6 @@ const LIBRARY: &[(&str, f64, Option<f64>, &str)] = &[
         None,
         "US 2,500,046 (Kodak): f = 100 (lentil database entry 14; no f-number given)",
     ),
-    ("library/biotar-de485798.json", 100.0, None, "DE 485 798 (Merte): f = 100 (lentil database entry 5)"),
     ("library/takumar-us3451745.json", 100.0, None, "US 3,451,745 (Asahi): f = 100 (lentil database entry 6)"),
     (
         "achromat-doublet-100mm.json",
@@ -126,7 +120,7 @@ fn the_table_covers_the_library_folder() {
         assert!(findings.is_empty(), "{key}: {findings:?}");
         n += 1;
     }
-    assert!(n >= 10);
+    assert!(n >= 8);
 }
 
 /// The phone lens's aspheres (odd terms to r^10, conics to k = -222):
@@ -150,4 +144,42 @@ fn the_phone_lens_traces_as_a_40_digit_trace_does() {
     }
     println!("largest difference from the 40-digit trace: {worst:e} mm");
     assert!(worst < 1e-12, "{worst:e} mm");
+}
+
+/// Automatic clear apertures (`lens convert --clear-apertures`): the double
+/// Gauss's, made for the axis and 14 degrees, pass every rim ray of those
+/// bundles, and are tight: each surface narrowed by 0.1% blocks one.
+#[test]
+fn automatic_clear_apertures_pass_their_bundles_and_no_more() {
+    use lens::analysis::aperture::{automatic_semi_diameters, RIM_RAYS};
+    use lens::analysis::{Aim, Field, Launcher};
+    use lens::Tracer;
+    let p = automatic_semi_diameters(&load("double-gauss-50mm.json"), &[14.0]).unwrap();
+    let rim_rays = |p: &Prescription| {
+        let mut rays = Vec::new();
+        for field in [0.0, 14.0] {
+            let l = Launcher::new(p, Field::Angle(field), Aim::Real).unwrap();
+            for k in 0..RIM_RAYS {
+                let a = std::f64::consts::TAU * k as f64 / RIM_RAYS as f64;
+                // just inside the stop's rim (the rim itself is the stop's to clip)
+                rays.push(l.ray(0.999999 * a.cos(), 0.999999 * a.sin()).unwrap());
+            }
+        }
+        rays
+    };
+    let rays = rim_rays(&p);
+    let t = Tracer::forward(&p);
+    assert!(rays.iter().all(|r| t.trace(*r).reached().is_some()));
+    let sds: Vec<Option<f64>> = p.surfaces().iter().map(|s| s.semi_diameter).collect();
+    for i in 0..sds.len() {
+        if p.surfaces()[i].stop {
+            continue;
+        }
+        let mut narrower = sds.clone();
+        narrower[i] = narrower[i].map(|s| s * 0.999);
+        let q = p.with_clear_apertures(&narrower).unwrap();
+        let tq = Tracer::forward(&q);
+        let blocked = rays.iter().filter(|r| tq.trace(**r).reached().is_none()).count();
+        assert!(blocked > 0, "surface {} narrowed by 0.1% blocks nothing", i + 1);
+    }
 }

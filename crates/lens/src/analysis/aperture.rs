@@ -1,7 +1,9 @@
 //! The stop sized for an f-number (paraxial f-number, object at infinity),
-//! and the fastest f-number the other clear apertures let through (real
-//! rays).
+//! the fastest f-number the other clear apertures let through (real rays),
+//! and clear apertures made to pass given fields (Zemax's automatic
+//! semi-diameters).
 
+use super::launch::{Aim, Field, Launcher};
 use crate::error::OpticsError;
 use crate::model::Prescription;
 use crate::paraxial::FirstOrder;
@@ -110,4 +112,57 @@ pub fn with_f_number(p: &Prescription, f_number: f64) -> Result<Prescription, Op
     let scale = (first.efl.abs() / f_number) / first.entrance_pupil.diameter;
     let resized = p.with_stop_semi_diameter(p.stop_semi_diameter() * scale)?;
     Ok(resized)
+}
+
+/// Rays around the rim of the pupil, per field, that
+/// [`automatic_semi_diameters`] traces.
+pub const RIM_RAYS: usize = 72;
+
+/// A copy of `p` whose clear apertures (all but the stop's) are just large
+/// enough to pass the full stop at the axis and at each of `fields_deg`
+/// (degrees, object at infinity): each surface's semi-diameter is the
+/// largest height at which a real ray of those bundles meets it (the
+/// chief ray and [`RIM_RAYS`] rays around the rim of the stop, aimed at the
+/// stop by Newton's iteration), plus one part in a million so that the rim
+/// rays are not lost to rounding. What Zemax's automatic semi-diameters
+/// are; for designs whose source gives no clear apertures (patents).
+///
+/// Errors when a ray of those bundles does not reach the film with the
+/// other apertures open (it misses a surface, or is totally reflected),
+/// naming the field, and when the apertures make neighbouring surfaces cross.
+pub fn automatic_semi_diameters(p: &Prescription, fields_deg: &[f64]) -> Result<Prescription, OpticsError> {
+    let n = p.surfaces().len();
+    let open = p.with_clear_apertures(&vec![None; n])?;
+    let first = FirstOrder::of(&open)?;
+    // the rim rays meet the stop at its rim: it must not clip them either
+    let tracer = Tracer::forward_without_stop(&open);
+    let mut largest = vec![0.0f64; n];
+    let mut rim: Vec<(f64, f64)> = (0..RIM_RAYS)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / RIM_RAYS as f64;
+            (a.cos(), a.sin())
+        })
+        .collect();
+    rim.push((0.0, 0.0));
+    for &field in std::iter::once(&0.0).chain(fields_deg) {
+        let launcher = Launcher::with_first(&open, &first, Field::Angle(field), Aim::Real)?;
+        for &(px, py) in &rim {
+            let ray = launcher.ray(px, py)?;
+            let (path, outcome) = tracer.trace_path(ray);
+            if outcome.reached().is_none() {
+                return Err(OpticsError::AimingFailed {
+                    px,
+                    py,
+                    field: Field::Angle(field).describe(),
+                    why: format!("with the clear apertures open the ray {}", super::bundle::describe_outcome(&outcome)),
+                });
+            }
+            // path: the start, then the hit on each surface, then the film
+            for (i, hit) in path.iter().skip(1).take(n).enumerate() {
+                largest[i] = largest[i].max(hit.x.hypot(hit.y));
+            }
+        }
+    }
+    let sd: Vec<Option<f64>> = largest.iter().map(|h| Some(h * (1.0 + 1e-6))).collect();
+    p.with_clear_apertures(&sd)
 }

@@ -327,6 +327,25 @@ impl Prescription {
         Ok(p)
     }
 
+    /// A copy with every clear aperture but the stop's set to
+    /// `semi_diameters` (0-based, one per surface; `None` for a surface
+    /// that does not clip; the stop's entry is ignored), validated again
+    /// (errors name surfaces that then cross).
+    pub fn with_clear_apertures(&self, semi_diameters: &[Option<f64>]) -> Result<Self, OpticsError> {
+        let mut p = self.clone();
+        for (i, s) in p.surfaces.iter_mut().enumerate() {
+            if !s.stop {
+                s.semi_diameter = semi_diameters.get(i).copied().flatten();
+            }
+        }
+        let findings = validate(&p.to_spec());
+        if has_errors(&findings) {
+            let list = findings.iter().filter(|f| f.severity == Severity::Error).map(|f| f.to_string());
+            return Err(OpticsError::Resized { findings: list.collect::<Vec<_>>().join("; ") });
+        }
+        Ok(p)
+    }
+
     /// A copy with the stop's clear radius set to `semi_diameter` mm,
     /// validated again (errors name what the larger stop breaks).
     pub fn with_stop_semi_diameter(&self, semi_diameter: f64) -> Result<Self, OpticsError> {

@@ -157,11 +157,18 @@ pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -
     let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
     let far = qb + root.or(qb.sign_bit());
     let near = -qc / far;
-    let other = -far / qa;
-    // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root
+    // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root (the
+    // other root is wanted only where the near one is off it: rare, so
+    // computed only then; a lane's choice does not depend on the others)
     let k1c = a.k1 * a.c;
     let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], p[2]), one).le(L::splat(0.0));
-    let u = L::select(on_sheet(near) | !on_sheet(other) | !other.is_finite(), near, other);
+    let near_ok = on_sheet(near);
+    let u = if (!near_ok).any() {
+        let other = -far / qa;
+        L::select(near_ok | !on_sheet(other) | !other.is_finite(), near, other)
+    } else {
+        near
+    };
     Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: flag::<L>(!u.is_finite()) }
 }
 

@@ -279,6 +279,9 @@ struct Chunk {
     approach: [Approach4; VECTORS],
     /// Bit `i` set while ray `i` travels.
     alive: u64,
+    /// Each step's asphere in the kernel's number type, made once per trace
+    /// ([`Chunk::for_tracer`]), `None` for the other steps.
+    aspheres: Vec<Option<AsphereLanes<F64x4>>>,
 }
 
 /// A step's verdicts for a chunk, one bit per ray.
@@ -312,7 +315,22 @@ impl Chunk {
         let rays = Rays4 { x: v, y: v, z: v, dx: v, dy: v, dz: v, opl: v };
         let a = [0.0; 4];
         let approach = [Approach4 { t0: a, f: a, g: a, disc: a }; VECTORS];
-        Box::new(Chunk { live: [rays; 2], done: rays, status: [[0; 4]; VECTORS], approach, alive: 0 })
+        Box::new(Chunk {
+            live: [rays; 2],
+            done: rays,
+            status: [[0; 4]; VECTORS],
+            approach,
+            alive: 0,
+            aspheres: Vec::new(),
+        })
+    }
+
+    /// A chunk for tracing through `t`'s steps.
+    #[inline(always)]
+    fn for_tracer(t: &Tracer) -> Box<Self> {
+        let mut c = Chunk::new();
+        c.aspheres = t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::of(s.c, &a))).collect();
+        c
     }
 
     /// Puts ray `i` (global frame) with its status into the chunk.
@@ -456,7 +474,7 @@ impl Tracer {
         wavelength_nm: &[f64],
         ix: &mut ChunkIndices,
     ) {
-        let mut c = Chunk::new();
+        let mut c = Chunk::for_tracer(self);
         let last_z = self.steps[self.steps.len() - 1].vertex_z;
         let n = batch.len();
         let mut start = 0;
@@ -511,7 +529,7 @@ impl Tracer {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn trace_batch_avx2(&self, rays: &[Ray], out: &mut [Outcome]) {
-        let mut c = Chunk::new();
+        let mut c = Chunk::for_tracer(self);
         let last_z = self.steps[self.steps.len() - 1].vertex_z;
         let total = rays.len().min(out.len());
         let (all_rays, out_ptr) = (rays, out.as_ptr());
@@ -619,11 +637,11 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
 ) {
     let sl = StepLanes::<F64x4>::of(s);
     let n = n.min(VECTORS);
-    let Chunk { live: [a, b], done, status, approach, alive } = c;
+    let Chunk { live: [a, b], done, status, approach, alive, aspheres } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     let mut bits = Bits::default();
-    if let (ASPHERE, Some(asph)) = (SHAPE, &s.asphere) {
-        asphere_chunk::<REFRACT, PER_RAY>(s, &sl, &AsphereLanes::of(s.c, asph), src, dst, n, ix, &mut bits);
+    if let (ASPHERE, Some(asph)) = (SHAPE, &aspheres[k]) {
+        asphere_chunk::<REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits);
     } else {
         if SHAPE != PLANE {
             for (j, to) in approach[..n].iter_mut().enumerate() {
@@ -755,7 +773,8 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
                 let (_, d, _) = load_rays(src, j);
                 newton_step(a, d, &mut nw);
                 at.put_iter(&nw);
-                running = true;
+                // another pass only if this vector still iterates
+                running |= newton_running(&nw);
             }
         }
         if !running {

@@ -322,8 +322,11 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
     if let Some(count) = f.wave_count.filter(|c| *c > 0) {
         waves.retain(|w| w.0 <= count);
     }
-    let nm: Vec<f64> = waves.iter().map(|w| w.1 * 1000.0).collect();
-    let primary = f.primary.and_then(|p| waves.iter().find(|w| w.0 == p)).map(|w| w.1 * 1000.0);
+    // µm to nm, rounded to 1e-9 nm: 0.5875618 µm is 587.5618 nm, not
+    // 587.5618000000001
+    let to_nm = |um: f64| (um * 1e12).round() / 1e9;
+    let nm: Vec<f64> = waves.iter().map(|w| to_nm(w.1)).collect();
+    let primary = f.primary.and_then(|p| waves.iter().find(|w| w.0 == p)).map(|w| to_nm(w.1));
     let mut fields: Vec<f64> = Vec::new();
     if f.field_type.unwrap_or(0) == 0 {
         let count = f.field_count.unwrap_or(f.xfields.len().max(f.yfields.len()));

@@ -208,7 +208,8 @@ fn a_real_zemax_file_reads_and_its_unknown_glass_is_refused() {
     assert!(e.contains("OHARA:L-TIM28"), "the nearest names are offered: {e}");
     let (t, enc) = text::decode(&std::fs::read(path).unwrap()).unwrap();
     assert_eq!(enc, "UTF-16 LE");
-    let t = t.replace("L-TIM28_MOLD", "L-TIM28").replace("GCAT SCHOTT HIKARI RPO HOYA", "GCAT SCHOTT HIKARI OHARA HOYA");
+    let t =
+        t.replace("L-TIM28_MOLD", "L-TIM28").replace("GCAT SCHOTT HIKARI RPO HOYA", "GCAT SCHOTT HIKARI OHARA HOYA");
     let spec = read(&t, Catalogs::shipped()).unwrap();
     assert_eq!(spec.surfaces.len(), 11);
     assert!(spec.surfaces[4].stop);

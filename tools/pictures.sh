@@ -19,7 +19,19 @@ for s in dof-apertures:dof-apertures dof-samples:dof-samples focus-shift:focus-s
   $lens study "lens-data/studies/${s%%:*}.json" -o "$tmp/${s##*:}.png"
   jpeg "$tmp/${s##*:}.png" "$out/${s##*:}.jpg"
 done
+$lens render lens-data/scenes/phone-aspheric.json -o "$tmp/phone-aspheric.png"
+jpeg "$tmp/phone-aspheric.png" "$out/phone-aspheric.jpg"
 rm -r "$tmp"
+# a layout of every lens in the library (docs/lenses.md)
+for f in lens-data/library/*.json; do
+  b=$(basename "$f" .json)
+  case $b in phone*) fields=0,15,30 ;; petzval*) fields=0,5,10 ;; *) fields=0,10,20 ;; esac
+  $lens layout "$f" --fields $fields -o "$out/lenses/$b.png"
+done
+for b in achromat-doublet-100mm:0,1,2 cooke-triplet:0,10,20 double-gauss-50mm:0,10,20 fisheye-10mm:0,40,75 \
+         telephoto-250mm:0,3,5 wide-angle-22mm:0,20,38; do
+  $lens layout "lens-data/${b%%:*}.json" --fields "${b##*:}" -o "$out/lenses/${b%%:*}.png"
+done
 $lens render lens-data/scenes/bokeh-thin-star.json -o $out/bokeh-star.png --width 960 --height 600
 # error against run time of the three cameras (docs/render-report/)
 for c in pinhole thin-lens real-lens; do

@@ -33,12 +33,17 @@ pub(crate) struct AsphereLanes<L> {
     /// Coefficients: for an even asphere of r^2, r^4, ... (a polynomial in
     /// r^2); otherwise of r^1, r^2, ... (a polynomial in r).
     a: [L; MAX_ASPHERE_POWER],
-    /// The derivative's coefficients: `2 a_2, 4 a_4, ...` (even: of
-    /// r^0, r^2, ..., so that with them `g = (dz/dr) / r` needs no
-    /// division) or `1 a_1, 2 a_2, ...` (of r^0, r^1, ...).
+    /// The coefficients of `Q = P'(r) / r`: `2 a_2, 4 a_4, ...` (even: of
+    /// r^0, r^2, ...) or `2 a_2, 3 a_3, ...` (of r^0, r^1, ...; the r^1
+    /// term's `a_1 / r` apart): no division by r but for an r^1 term.
     da: [L; MAX_ASPHERE_POWER],
-    /// Terms used.
+    /// Terms of P, and of Q.
     n: usize,
+    nq: usize,
+    /// `a_1`, the r^1 term (0 for an even asphere).
+    a1: L,
+    /// `a_1` is not 0.
+    has_a1: bool,
     /// Every term has an even power.
     even: bool,
 }
@@ -48,18 +53,42 @@ impl<L: Real> AsphereLanes<L> {
     pub(crate) fn of(c: f64, asphere: &Asphere) -> Self {
         let even = asphere.is_even();
         let degree = asphere.degree();
+        let coef = |j: usize| asphere.coefficients[j - 1];
         let mut a = [L::splat(0.0); MAX_ASPHERE_POWER];
         let mut da = [L::splat(0.0); MAX_ASPHERE_POWER];
         let n = if even { degree / 2 } else { degree };
-        for i in 0..n {
-            // even: term i is r^(2i + 2); otherwise r^(i + 1)
-            let (power, coef) =
-                if even { (2 * i + 2, asphere.coefficients[2 * i + 1]) } else { (i + 1, asphere.coefficients[i]) };
-            a[i] = L::splat(coef);
-            da[i] = L::splat(power as f64 * coef);
+        if even {
+            // term i is r^(2i + 2) = v^(i + 1), v = r^2; Q = P'(r) / r has
+            // it at v^i
+            for i in 0..n {
+                let j = 2 * i + 2;
+                a[i] = L::splat(coef(j));
+                da[i] = L::splat(j as f64 * coef(j));
+            }
+        } else {
+            // term i is r^(i + 1); Q has term j >= 2 at r^(j - 2) (the r^1
+            // term's a_1 / r is added apart)
+            for i in 0..n {
+                a[i] = L::splat(coef(i + 1));
+            }
+            for j in 2..=degree {
+                da[j - 2] = L::splat(j as f64 * coef(j));
+            }
         }
+        let a1 = if even || degree == 0 { 0.0 } else { coef(1) };
         let k1 = 1.0 + asphere.conic;
-        AsphereLanes { c: L::splat(c), k1: L::splat(k1), k1c2: L::splat(k1 * c * c), a, da, n, even }
+        AsphereLanes {
+            c: L::splat(c),
+            k1: L::splat(k1),
+            k1c2: L::splat(k1 * c * c),
+            a,
+            da,
+            n,
+            nq: if even { n } else { degree.saturating_sub(1) },
+            a1: L::splat(a1),
+            has_a1: a1 != 0.0,
+            even,
+        }
     }
 
     /// The polynomial part at `(x, y)`: its sag `P` and `Q = (dP/dr) / r`
@@ -76,17 +105,21 @@ impl<L: Real> AsphereLanes<L> {
         // j a_j r^(j-1)
         let v = if self.even { s } else { s.sqrt() };
         let mut p = self.a[self.n - 1];
-        let mut dp = self.da[self.n - 1];
         for i in (0..self.n - 1).rev() {
             p = p.fma(v, self.a[i]);
-            dp = dp.fma(v, self.da[i]);
         }
-        if self.even {
-            (p * s, dp)
-        } else {
+        let mut q = L::splat(0.0);
+        if self.nq > 0 {
+            q = self.da[self.nq - 1];
+            for i in (0..self.nq - 1).rev() {
+                q = q.fma(v, self.da[i]);
+            }
+        }
+        if self.has_a1 {
             let r_or_one = L::select(v.le(L::splat(0.0)), L::splat(1.0), v);
-            (p * v, dp / r_or_one)
+            q = q + self.a1 / r_or_one;
         }
+        (p * v, q)
     }
 }
 

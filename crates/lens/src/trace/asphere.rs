@@ -68,8 +68,8 @@ impl<L: Real> AsphereLanes<L> {
         } else {
             // term i is r^(i + 1); Q has term j >= 2 at r^(j - 2) (the r^1
             // term's a_1 / r is added apart)
-            for i in 0..n {
-                a[i] = L::splat(coef(i + 1));
+            for (i, ai) in a.iter_mut().enumerate().take(n) {
+                *ai = L::splat(coef(i + 1));
             }
             for j in 2..=degree {
                 da[j - 2] = L::splat(j as f64 * coef(j));

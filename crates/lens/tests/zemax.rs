@@ -119,6 +119,8 @@ fn an_aspheric_file_reads_as_written() {
     // OHARA has no N-BK7: the next vendor GCAT lists does
     assert_eq!(s1.glass, Some(lens::model::GlassSpec::Name("SCHOTT:N-BK7".into())));
     assert_eq!(spec.surfaces[1].odd_aspheric, Some(vec![0.0, 0.0, 1e-6]));
+    // DIAM alone does not clip rays in Zemax: no clear aperture here
+    assert_eq!(spec.surfaces[1].semi_diameter, None);
     let p = Prescription::from_spec(&spec).unwrap();
     let f = FirstOrder::of(&p).unwrap();
     assert!(close(f.f_number, 4.0, 1e-12), "f/{}", f.f_number);
@@ -212,6 +214,8 @@ fn a_real_zemax_file_reads_and_its_unknown_glass_is_refused() {
         t.replace("L-TIM28_MOLD", "L-TIM28").replace("GCAT SCHOTT HIKARI RPO HOYA", "GCAT SCHOTT HIKARI OHARA HOYA");
     let spec = read(&t, Catalogs::shipped()).unwrap();
     assert_eq!(spec.surfaces.len(), 11);
+    // FLAP: a floating aperture at the semi-diameter, which clips
+    assert_eq!(spec.surfaces[0].semi_diameter, Some(7.6));
     assert!(spec.surfaces[4].stop);
     let s4 = &spec.surfaces[3];
     assert_eq!((s4.conic, s4.aspheric.clone()), (Some(0.02), Some(vec![0.0, 1.10721e-5, 1.837e-7])));

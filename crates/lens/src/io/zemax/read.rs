@@ -39,6 +39,7 @@ struct Block {
     glass: Option<(Vec<String>, usize)>,
     diam: Option<f64>,
     clap: Option<f64>,
+    flap: Option<f64>,
     stop: bool,
 }
 
@@ -203,9 +204,22 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
                     }
                     "GLAS" => b.glass = Some((tok[1..].iter().map(|s| s.to_string()).collect(), line)),
                     "DIAM" => b.diam = Some(number(tok.get(1), line, "DIAM")?),
-                    "CLAP" => b.clap = Some(number(tok.get(2), line, "CLAP maximum radius")?),
+                    "CLAP" => {
+                        let rmin = number(tok.get(1), line, "CLAP minimum radius")?;
+                        if rmin != 0.0 {
+                            return Err(err(
+                                line,
+                                format!(
+                                    "surface {}: CLAP with a minimum radius of {rmin} (an annular aperture, a central obscuration) is not supported",
+                                    b.number
+                                ),
+                            ));
+                        }
+                        b.clap = Some(number(tok.get(2), line, "CLAP maximum radius")?);
+                    }
+                    "FLAP" => b.flap = Some(number(tok.get(2), line, "FLAP semi-diameter")?),
                     "STOP" => b.stop = true,
-                    "SQAP" | "ELAP" | "SPID" | "CLOB" | "SQOB" | "ELOB" | "UDAP" => {
+                    "SQAP" | "ELAP" | "SPID" | "CLOB" | "SQOB" | "ELOB" | "UDAP" | "OBSC" => {
                         return Err(err(
                             line,
                             format!(
@@ -300,7 +314,11 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
             }
             (!v.is_empty()).then_some(v)
         };
-        let semi = b.clap.or(b.diam).filter(|d| *d > 0.0).map(|d| d * s);
+        // Zemax clips rays only at a surface aperture (CLAP, or FLAP at the
+        // semi-diameter); DIAM alone is drawn, not a stop for rays. The
+        // stop's DIAM is its size for FLOA (ENPD and FNUM size it anew).
+        let aperture = b.clap.or(b.flap).or(if b.stop { b.diam } else { None });
+        let semi = aperture.filter(|d| *d > 0.0).map(|d| d * s);
         surfaces.push(SurfaceSpec {
             ior,
             glass,

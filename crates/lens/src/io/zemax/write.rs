@@ -124,7 +124,12 @@ pub fn write(p: &Prescription) -> Result<String, String> {
             None => {}
         }
         if let Some(sd) = s.semi_diameter {
+            // a fixed semi-diameter, and a floating aperture there: our
+            // clear apertures clip, Zemax's semi-diameters alone do not
             line(format!("  DIAM {} 1 0 0 1 \"\"", z(sd)));
+            if !s.stop {
+                line(format!("  FLAP 0 {} 0", z(sd)));
+            }
         }
     }
     line(format!("SURF {}", p.surfaces().len() + 1));

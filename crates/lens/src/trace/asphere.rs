@@ -21,7 +21,48 @@ pub const MAX_NEWTON_STEPS: usize = 32;
 /// Newton's iteration stops when its step is at most this, mm.
 pub const NEWTON_TOLERANCE_MM: f64 = 1e-12;
 
+/// A polynomial in `s` = r^2 by Horner's rule: its coefficients from
+/// `s^0`, and how many.
+#[derive(Clone, Copy)]
+struct Chain<L> {
+    c: [L; MAX_ASPHERE_POWER / 2],
+    n: usize,
+}
+
+impl<L: Real> Chain<L> {
+    /// The chain of `coefs` (from `s^0`; zeros at the end dropped).
+    fn of(coefs: &[f64]) -> Self {
+        let n = coefs.iter().rposition(|a| *a != 0.0).map_or(0, |i| i + 1);
+        let mut c = [L::splat(0.0); MAX_ASPHERE_POWER / 2];
+        for (ci, a) in c.iter_mut().zip(coefs) {
+            *ci = L::splat(*a);
+        }
+        Chain { c, n }
+    }
+
+    #[inline(always)]
+    fn at(&self, s: L) -> L {
+        if self.n == 0 {
+            return L::splat(0.0);
+        }
+        let mut p = self.c[self.n - 1];
+        for i in (0..self.n - 1).rev() {
+            p = p.fma(s, self.c[i]);
+        }
+        p
+    }
+}
+
 /// An asphere's numbers in the kernel's number type.
+///
+/// The polynomial part P(r) = sum a_j r^j and `Q = P'(r) / r` (the normal
+/// and the derivative along the ray need it) are evaluated as polynomials in
+/// `s` = r^2, each split into its even and odd powers of r:
+/// `P = s B(s) + r C(s)` and `Q = D(s) + r E(s) + a_1 / r`. The four chains
+/// are independent of each other and of the square root that gives r, so
+/// their latencies overlap (a single Horner chain in r over ten terms was
+/// the step's longest wait); an even asphere has only B and D and no square
+/// root. Only an r^1 term needs a division by r.
 #[derive(Clone, Copy)]
 pub(crate) struct AsphereLanes<L> {
     /// Base curvature, 1/mm.
@@ -30,96 +71,62 @@ pub(crate) struct AsphereLanes<L> {
     k1: L,
     /// `(1 + k) c^2`.
     k1c2: L,
-    /// Coefficients: for an even asphere of r^2, r^4, ... (a polynomial in
-    /// r^2); otherwise of r^1, r^2, ... (a polynomial in r).
-    a: [L; MAX_ASPHERE_POWER],
-    /// The coefficients of `Q = P'(r) / r`: `2 a_2, 4 a_4, ...` (even: of
-    /// r^0, r^2, ...) or `2 a_2, 3 a_3, ...` (of r^0, r^1, ...; the r^1
-    /// term's `a_1 / r` apart): no division by r but for an r^1 term.
-    da: [L; MAX_ASPHERE_POWER],
-    /// Terms of P, and of Q.
-    n: usize,
-    nq: usize,
+    /// `B(s) = sum_m a_2m s^(m-1)`, `C(s) = sum_m a_(2m+1) s^m`.
+    b: Chain<L>,
+    cc: Chain<L>,
+    /// `D(s) = sum_m 2m a_2m s^(m-1)`, `E(s) = sum_m (2m+1) a_(2m+1)
+    /// s^(m-1)` (m >= 1).
+    d: Chain<L>,
+    e: Chain<L>,
     /// `a_1`, the r^1 term (0 for an even asphere).
     a1: L,
     /// `a_1` is not 0.
     has_a1: bool,
-    /// Every term has an even power.
-    even: bool,
+    /// Some term has an odd power: r itself is needed.
+    odd: bool,
 }
 
 impl<L: Real> AsphereLanes<L> {
     /// The kernel's numbers for `asphere` on a base of curvature `c`.
     pub(crate) fn of(c: f64, asphere: &Asphere) -> Self {
-        let even = asphere.is_even();
-        let degree = asphere.degree();
-        let coef = |j: usize| asphere.coefficients[j - 1];
-        let mut a = [L::splat(0.0); MAX_ASPHERE_POWER];
-        let mut da = [L::splat(0.0); MAX_ASPHERE_POWER];
-        let n = if even { degree / 2 } else { degree };
-        if even {
-            // term i is r^(2i + 2) = v^(i + 1), v = r^2; Q = P'(r) / r has
-            // it at v^i
-            for i in 0..n {
-                let j = 2 * i + 2;
-                a[i] = L::splat(coef(j));
-                da[i] = L::splat(j as f64 * coef(j));
-            }
-        } else {
-            // term i is r^(i + 1); Q has term j >= 2 at r^(j - 2) (the r^1
-            // term's a_1 / r is added apart)
-            for (i, ai) in a.iter_mut().enumerate().take(n) {
-                *ai = L::splat(coef(i + 1));
-            }
-            for j in 2..=degree {
-                da[j - 2] = L::splat(j as f64 * coef(j));
-            }
-        }
-        let a1 = if even || degree == 0 { 0.0 } else { coef(1) };
+        let a = |j: usize| if j <= MAX_ASPHERE_POWER { asphere.coefficients[j - 1] } else { 0.0 };
+        let half = MAX_ASPHERE_POWER / 2;
+        let b: Vec<f64> = (1..=half).map(|m| a(2 * m)).collect();
+        let cc: Vec<f64> = (0..half).map(|m| a(2 * m + 1)).collect();
+        let d: Vec<f64> = (1..=half).map(|m| (2 * m) as f64 * a(2 * m)).collect();
+        let e: Vec<f64> = (1..half).map(|m| (2 * m + 1) as f64 * a(2 * m + 1)).collect();
         let k1 = 1.0 + asphere.conic;
         AsphereLanes {
             c: L::splat(c),
             k1: L::splat(k1),
             k1c2: L::splat(k1 * c * c),
-            a,
-            da,
-            n,
-            nq: if even { n } else { degree.saturating_sub(1) },
-            a1: L::splat(a1),
-            has_a1: a1 != 0.0,
-            even,
+            b: Chain::of(&b),
+            cc: Chain::of(&cc),
+            d: Chain::of(&d),
+            e: Chain::of(&e),
+            a1: L::splat(a(1)),
+            has_a1: a(1) != 0.0,
+            odd: !asphere.is_even(),
         }
     }
 
-    /// The polynomial part at `(x, y)`: its sag `P` and `Q = (dP/dr) / r`
-    /// (no division for an even asphere; for odd terms `r = 0` only on the
-    /// axis, where `x = y = 0` and `Q`'s value does not matter: it is kept
-    /// finite).
+    /// The polynomial part at `s` = r^2: its sag `P` and `Q = (dP/dr) /
+    /// r`. On the axis (r = 0, where x = y = 0 and Q's value does not
+    /// matter) an r^1 term's `a_1 / r` is kept finite.
     #[inline(always)]
     fn poly(&self, s: L) -> (L, L) {
-        if self.n == 0 {
-            return (L::splat(0.0), L::splat(0.0));
-        }
-        // even: sum a_2i s^i = s (a_2 + s (a_4 + ...)), Q = sum 2i a_2i
-        // s^(i-1); odd: sum a_j r^j = r (a_1 + r (a_2 + ...)), dP/dr = sum
-        // j a_j r^(j-1)
-        let v = if self.even { s } else { s.sqrt() };
-        let mut p = self.a[self.n - 1];
-        for i in (0..self.n - 1).rev() {
-            p = p.fma(v, self.a[i]);
-        }
-        let mut q = L::splat(0.0);
-        if self.nq > 0 {
-            q = self.da[self.nq - 1];
-            for i in (0..self.nq - 1).rev() {
-                q = q.fma(v, self.da[i]);
+        let mut p = self.b.at(s) * s;
+        let mut q = self.d.at(s);
+        if self.odd {
+            let r = s.sqrt();
+            p = r.fma(self.cc.at(s), p);
+            q = r.fma(self.e.at(s), q);
+            if self.has_a1 {
+                let r_or_one = L::select(r.le(L::splat(0.0)), L::splat(1.0), r);
+                q = q + self.a1 / r_or_one;
             }
         }
-        if self.has_a1 {
-            let r_or_one = L::select(v.le(L::splat(0.0)), L::splat(1.0), v);
-            q = q + self.a1 / r_or_one;
-        }
-        (p * v, q)
+        (p, q)
     }
 }
 

@@ -83,7 +83,7 @@ impl Catalog {
 }
 
 /// The shipped catalogues' files, compiled in.
-const SHIPPED: [(&str, &str); 14] = [
+const SHIPPED: [(&str, &str); 15] = [
     ("SCHOTT", include_str!("../../../../lens-data/glass/SCHOTT.json")),
     ("OHARA", include_str!("../../../../lens-data/glass/OHARA.json")),
     ("HOYA", include_str!("../../../../lens-data/glass/HOYA.json")),
@@ -96,6 +96,7 @@ const SHIPPED: [(&str, &str); 14] = [
     ("CORNING", include_str!("../../../../lens-data/glass/CORNING.json")),
     ("LIGHTPATH", include_str!("../../../../lens-data/glass/LIGHTPATH.json")),
     ("MISC", include_str!("../../../../lens-data/glass/MISC.json")),
+    ("MISC-CRYSTALS", include_str!("../../../../lens-data/glass/MISC-CRYSTALS.json")),
     ("NSG", include_str!("../../../../lens-data/glass/NSG.json")),
     ("VITRON", include_str!("../../../../lens-data/glass/VITRON.json")),
 ];

@@ -230,3 +230,13 @@ fn a_real_zemax_file_reads_and_its_unknown_glass_is_refused() {
     // from the shipped catalogues' in the 7th digit)
     assert!(close(f.efl, 30.8056929, 1e-6), "efl {}", f.efl);
 }
+
+/// Zemax's MISC names (fused silica, crystals) resolve through GCAT MISC.
+#[test]
+fn zemax_misc_materials_resolve() {
+    let text = ASPHERIC_ZMX.replace("GCAT OHARA SCHOTT", "GCAT MISC").replace("GLAS N-BK7", "GLAS F_SILICA");
+    let spec = read(&text, Catalogs::shipped()).unwrap();
+    assert_eq!(spec.surfaces[0].glass, Some(lens::model::GlassSpec::Name("MISC:F_SILICA".into())));
+    let p = Prescription::from_spec(&spec).unwrap();
+    assert!(close(p.glasses()[0].index(587.5618).unwrap(), 1.458464, 1e-6));
+}

@@ -42,14 +42,19 @@ impl<L: Real> Chain<L> {
 
     #[inline(always)]
     fn at(&self, s: L) -> L {
-        if self.n == 0 {
-            return L::splat(0.0);
+        // short chains (most aspheres) unrolled to a fixed length, the
+        // missing terms zeros: no loop, no branch per term
+        match self.n {
+            0 => L::splat(0.0),
+            1..=4 => self.c[3].fma(s, self.c[2]).fma(s, self.c[1]).fma(s, self.c[0]),
+            _ => {
+                let mut p = self.c[self.n - 1];
+                for i in (0..self.n - 1).rev() {
+                    p = p.fma(s, self.c[i]);
+                }
+                p
+            }
         }
-        let mut p = self.c[self.n - 1];
-        for i in (0..self.n - 1).rev() {
-            p = p.fma(s, self.c[i]);
-        }
-        p
     }
 }
 

@@ -39,12 +39,13 @@ fn cartesian_ellipsoid_focuses_parallel_light_exactly() {
     assert!(o.reached().unwrap().origin.y.abs() > 0.1);
 }
 
-/// The aspheric double Gauss of this test: even terms on two surfaces, a
-/// conic on a third, odd terms on a fourth.
+/// The aspheric double Gauss of this test: even terms on two surfaces,
+/// conics on two (one a pure conic, met without Newton's iteration), odd
+/// terms on a fifth.
 const ASPHERIC: &str = r#"{"surfaces": [
   {"radius": 29.475, "conic": -0.3, "aspheric": [0, -2.1e-6, -1.2e-9], "thickness": 3.76, "ior": 1.67, "semi_diameter": 12.7},
   {"radius": 84.83, "thickness": 0.12, "semi_diameter": 12.7},
-  {"radius": 19.275, "thickness": 4.025, "ior": 1.67, "semi_diameter": 11.5},
+  {"radius": 19.275, "conic": -0.5, "thickness": 4.025, "ior": 1.67, "semi_diameter": 11.5},
   {"radius": 40.77, "thickness": 3.275, "ior": 1.699, "semi_diameter": 11.5},
   {"radius": 12.75, "thickness": 5.705, "semi_diameter": 9.0},
   {"thickness": 4.5, "semi_diameter": 8.7, "stop": true},

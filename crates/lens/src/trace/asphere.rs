@@ -89,17 +89,21 @@ pub(crate) struct AsphereLanes<L> {
     has_a1: bool,
     /// Some term has an odd power: r itself is needed.
     odd: bool,
+    /// No polynomial terms: the conic's root is the intersection, and
+    /// Newton's iteration has nothing to do.
+    conic_only: bool,
 }
 
 impl<L: Real> AsphereLanes<L> {
     /// The kernel's numbers for `asphere` on a base of curvature `c`.
     pub(crate) fn of(c: f64, asphere: &Asphere) -> Self {
         let a = |j: usize| if j <= MAX_ASPHERE_POWER { asphere.coefficients[j - 1] } else { 0.0 };
-        let half = MAX_ASPHERE_POWER / 2;
-        let b: Vec<f64> = (1..=half).map(|m| a(2 * m)).collect();
-        let cc: Vec<f64> = (0..half).map(|m| a(2 * m + 1)).collect();
-        let d: Vec<f64> = (1..=half).map(|m| (2 * m) as f64 * a(2 * m)).collect();
-        let e: Vec<f64> = (1..half).map(|m| (2 * m + 1) as f64 * a(2 * m + 1)).collect();
+        const HALF: usize = MAX_ASPHERE_POWER / 2;
+        // index m - 1 (b, d) or m (cc, e from m = 1 at index 0): no heap
+        let b: [f64; HALF] = std::array::from_fn(|i| a(2 * (i + 1)));
+        let cc: [f64; HALF] = std::array::from_fn(|i| a(2 * i + 1));
+        let d: [f64; HALF] = std::array::from_fn(|i| (2 * (i + 1)) as f64 * a(2 * (i + 1)));
+        let e: [f64; HALF] = std::array::from_fn(|i| (2 * i + 3) as f64 * a(2 * i + 3));
         let k1 = 1.0 + asphere.conic;
         AsphereLanes {
             c: L::splat(c),
@@ -112,6 +116,7 @@ impl<L: Real> AsphereLanes<L> {
             a1: L::splat(a(1)),
             has_a1: a(1) != 0.0,
             odd: !asphere.is_even(),
+            conic_only: asphere.degree() == 0,
         }
     }
 
@@ -214,6 +219,13 @@ pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -
     } else {
         near
     };
+    if a.conic_only {
+        // the root is exact (to rounding): done, unless the line misses;
+        // the normal needs m there (and Q = 0)
+        let met = !disc.is_neg() & u.is_finite();
+        let m = (-k1c).fma(u.fma(d[2], p[2]), one);
+        return Newton { p, u, q: L::splat(0.0), m, converged: flag::<L>(met), missed: flag::<L>(!met) };
+    }
     Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: flag::<L>(!u.is_finite()) }
 }
 

@@ -165,7 +165,7 @@ pub enum CameraSpec {
         /// Up direction (default +y).
         #[serde(default = "up")]
         up: V3,
-        /// Prescription file (JSON or pbrt .dat), relative to the scene file.
+        /// Prescription file (JSON, pbrt .dat or Zemax .zmx), relative to the scene file.
         prescription: String,
         /// f-number (resizes the stop).
         #[serde(default)]

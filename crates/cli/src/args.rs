@@ -107,7 +107,9 @@ impl ObjectArgs {
 /// One field angle.
 #[derive(clap::Args, Debug, Clone)]
 pub struct FieldArgs {
-    /// Field angle in degrees (object at infinity).
+    /// Field angle in degrees: the chief ray's angle in object space (object
+    /// at infinity, or at the prescription's design object distance when it
+    /// has one).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, default_value_t = 0.0)]
     pub field_deg: f64,
 }

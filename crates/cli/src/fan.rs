@@ -37,7 +37,7 @@ pub fn run(a: Args) -> CmdResult {
     }
     let first = FirstOrder::of(&p)?;
     let fan_at = |deg: f64| -> Result<_, lens::OpticsError> {
-        let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), a.aim.aim())?;
+        let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, deg), a.aim.aim())?;
         fan_traced(&p, &traced, &launcher, a.points, plane)
     };
     let fan = fan_at(a.field.field_deg)?;

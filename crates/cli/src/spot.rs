@@ -58,7 +58,7 @@ pub fn run(args: Args) -> CmdResult {
     };
     let first = FirstOrder::of(&p)?;
     let spot_at = |deg: f64| -> Result<_, lens::OpticsError> {
-        let launcher = Launcher::with_first(&p, &first, Field::Angle(deg), args.aim.aim())?;
+        let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, deg), args.aim.aim())?;
         spot_traced(&p, &traced, &launcher, pattern, args.n, plane)
     };
     let field_deg = args.field.field_deg;

@@ -24,6 +24,22 @@ pub enum Field {
 }
 
 impl Field {
+    /// The field of chief-ray angle `deg` (degrees) for `p` as designed:
+    /// [`Field::Angle`] for an object at infinity; for a prescription with
+    /// a finite design object distance d (`object_distance_mm`), the object
+    /// point whose chief ray makes that angle with the axis, through the
+    /// paraxial entrance pupil's centre: height `-(d + z_EP) tan(deg)` on
+    /// the plane d mm in front of the first vertex (as Zemax and optiland
+    /// take an angle field with a finite object).
+    pub fn at_angle(p: &Prescription, first: &FirstOrder, deg: f64) -> Field {
+        match p.object_distance_mm() {
+            Some(d) if d.is_finite() && d > 0.0 && deg.is_finite() && deg.abs() < 90.0 => {
+                Field::Height { object_distance: d, height: -(d + first.entrance_pupil.z) * deg.to_radians().tan() }
+            }
+            _ => Field::Angle(deg),
+        }
+    }
+
     /// The object distance this field implies.
     pub fn object(&self) -> ObjectDistance {
         match *self {

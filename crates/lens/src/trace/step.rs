@@ -297,6 +297,13 @@ pub(crate) struct Step {
     pub asphere: Option<Asphere>,
 }
 
+/// How much (relative) a clear aperture's squared radius is widened for
+/// the test: a ray aimed exactly at a rim (the pupil's edge on a stop that
+/// is the entrance pupil, as fans and spots aim) lands there to within a
+/// few ulps, and would otherwise pass or be blocked by rounding. A part in
+/// 1e12 of the radius squared is 5e-13 of it: nanometres of nothing.
+pub(crate) const RIM_TOLERANCE: f64 = 1e-12;
+
 /// [`Step::glass_before`] of a medium of constant index.
 pub(crate) const NO_GLASS: u32 = u32::MAX;
 
@@ -644,7 +651,7 @@ pub(crate) fn surface_step(
     let id = |g: Option<usize>| g.map_or(NO_GLASS, |g| g as u32);
     Step {
         c: surf.curvature,
-        sd2: surf.semi_diameter.map_or(f64::INFINITY, |r| r * r),
+        sd2: surf.semi_diameter.map_or(f64::INFINITY, |r| r * r * (1.0 + RIM_TOLERANCE)),
         mu: n1 / n2,
         n_before: n1,
         n_after: n2,

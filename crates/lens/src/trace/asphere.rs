@@ -19,8 +19,8 @@ use crate::simd::lanes::{Mask, Real};
 pub const MAX_NEWTON_STEPS: usize = 32;
 
 /// Newton's iteration stops when its step is at most this, mm (or, for an
-/// even asphere, when its error estimate after the step is; see
-/// [`newton_step`]).
+/// even asphere, when its error estimate after the step is: the
+/// third-order step of docs/architecture.md).
 pub const NEWTON_TOLERANCE_MM: f64 = 1e-12;
 
 /// The longest step (mm) after which the error estimate may end the

@@ -1,5 +1,5 @@
 //! Writing a prescription as a Zemax sequential lens file (`.zmx`), text
-//! that [`super::read`] and optical design programs read back.
+//! that [`fn@super::read`] and optical design programs read back.
 
 use crate::model::Prescription;
 use crate::paraxial::FirstOrder;
@@ -28,7 +28,7 @@ fn z(x: f64) -> String {
 /// `GCAT`; model glasses as Zemax model glasses (`___BLANK`, type 1); a
 /// constant index as a model glass of Abbe number
 /// [`NON_DISPERSIVE_ABBE`] (its index changes by less than 1e-9 over the
-/// visible), which [`super::read`] reads back as a constant index.
+/// visible), which [`fn@super::read`] reads back as a constant index.
 ///
 /// Errors (naming the surface) when a surface has terms Zemax's types do
 /// not hold: odd-asphere terms beyond r^8 (`ODDASPHE` has eight).

@@ -338,12 +338,18 @@ impl Prescription {
                 s.semi_diameter = semi_diameters.get(i).copied().flatten();
             }
         }
-        let findings = validate(&p.to_spec());
+        p.validated_again()
+    }
+
+    /// `self` after a change of apertures, validated as a file would be
+    /// (larger apertures may make surfaces cross): errors list what breaks.
+    fn validated_again(self) -> Result<Self, OpticsError> {
+        let findings = validate(&self.to_spec());
         if has_errors(&findings) {
             let list = findings.iter().filter(|f| f.severity == Severity::Error).map(|f| f.to_string());
             return Err(OpticsError::Resized { findings: list.collect::<Vec<_>>().join("; ") });
         }
-        Ok(p)
+        Ok(self)
     }
 
     /// A copy with the stop's clear radius set to `semi_diameter` mm,
@@ -362,13 +368,8 @@ impl Prescription {
         }
         let mut p = self.clone();
         p.surfaces[self.stop].semi_diameter = Some(semi_diameter);
-        // a larger stop may now cross its neighbours: check as a file would be
-        let findings = validate(&p.to_spec());
-        if has_errors(&findings) {
-            let list = findings.iter().filter(|f| f.severity == Severity::Error).map(|f| f.to_string());
-            return Err(OpticsError::Resized { findings: list.collect::<Vec<_>>().join("; ") });
-        }
-        Ok(p)
+        // a larger stop may now cross its neighbours
+        p.validated_again()
     }
 }
 

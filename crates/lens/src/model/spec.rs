@@ -157,10 +157,10 @@ impl SurfaceSpec {
     /// where the surface does not reach `h` or its numbers are unusable.
     pub fn sag(&self, h: f64) -> Option<f64> {
         let c = self.curvature()?;
-        match self.asphere() {
-            Some(a) => a.sag(c, h),
-            None if self.is_aspheric() => None,
-            None => crate::model::surface::sag(c, h),
+        let asphere = self.asphere();
+        if asphere.is_none() && self.is_aspheric() {
+            return None; // terms that do not make an asphere (too many)
         }
+        crate::model::surface::profile_sag(c, asphere.as_ref(), h)
     }
 }

@@ -133,10 +133,7 @@ impl Surface {
     /// sqrt(1 - c^2 h^2))`; an asphere adds its conic and terms
     /// ([`Asphere::sag`]).
     pub fn sag(&self, h: f64) -> Option<f64> {
-        match &self.asphere {
-            Some(a) => a.sag(self.curvature, h),
-            None => sag(self.curvature, h),
-        }
+        profile_sag(self.curvature, self.asphere.as_ref(), h)
     }
 
     /// The paraxial curvature at the vertex, 1/mm: `c + 2 a_2` (an r^2 term
@@ -147,6 +144,16 @@ impl Surface {
             Some(a) => self.curvature + 2.0 * a.coefficients[1],
             None => self.curvature,
         }
+    }
+}
+
+/// Sag (mm) at height `h` mm of the surface of base curvature `c` (1/mm)
+/// and, when given, aspheric departure `asphere`: [`Asphere::sag`], or the
+/// sphere's [`sag`].
+pub fn profile_sag(c: f64, asphere: Option<&Asphere>, h: f64) -> Option<f64> {
+    match asphere {
+        Some(a) => a.sag(c, h),
+        None => sag(c, h),
     }
 }
 

@@ -195,12 +195,6 @@ pub(crate) struct Newton<L> {
     pub missed: L,
 }
 
-/// A flag as a number, negative for true ([`Real::from_mask`]).
-#[inline(always)]
-fn flag<L: Real>(m: L::Mask) -> L {
-    L::from_mask(m)
-}
-
 /// The start of the intersection of the ray `p + t d` (unit `d`, the
 /// asphere's frame) with the asphere `a`: a root of the conic's quadratic
 /// `A t^2 + 2 B t + C = 0`, with `A = c (1 + k dz^2)`,
@@ -241,9 +235,9 @@ pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -
         // the normal needs m there (and Q = 0)
         let met = !disc.is_neg() & u.is_finite();
         let m = (-k1c).fma(u.fma(d[2], p[2]), one);
-        return Newton { p, u, q: L::splat(0.0), m, converged: flag::<L>(met), missed: flag::<L>(!met) };
+        return Newton { p, u, q: L::splat(0.0), m, converged: L::from_mask(met), missed: L::from_mask(!met) };
     }
-    Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: flag::<L>(!u.is_finite()) }
+    Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: L::from_mask(!u.is_finite()) }
 }
 
 /// One step of Newton's iteration for the lanes still in it; the others
@@ -305,8 +299,8 @@ pub(crate) fn newton_step<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newt
     st.u = L::select(step, st.u - du, st.u);
     st.q = L::select(step, q, st.q);
     st.m = L::select(step, m, st.m);
-    st.missed = flag::<L>(st.missed.is_neg() | (active & bad));
-    st.converged = flag::<L>(st.converged.is_neg() | now);
+    st.missed = L::from_mask(st.missed.is_neg() | (active & bad));
+    st.converged = L::from_mask(st.converged.is_neg() | now);
 }
 
 /// Whether any lane is still iterating.
@@ -376,7 +370,7 @@ pub(crate) fn asphere_carry<L: Real, const REFRACT: bool>(
     d: [L; 3],
     opl: L,
 ) -> StepOut<L> {
-    let inside = !(s.sd2 - h.x.fma(h.x, h.y * h.y)).is_neg();
+    let inside = s.inside(h.x, h.y);
     let ([dx, dy, dz], through) = if REFRACT {
         let [nx, ny, nz] = h.n;
         let inv = L::splat(1.0) / nz.fma(nz, nx.fma(nx, ny * ny)).sqrt();

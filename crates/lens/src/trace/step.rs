@@ -432,7 +432,7 @@ pub(crate) fn kind_of(ok: bool, converged: bool, inside: bool, through: bool) ->
 #[derive(Clone, Copy)]
 pub(crate) struct StepLanes<L> {
     pub c: L,
-    pub sd2: L,
+    sd2: L,
     pub mu: L,
     mu2: L,
     one_minus_mu2: L,
@@ -465,6 +465,13 @@ impl<L: Real> StepLanes<L> {
     #[inline(always)]
     pub(crate) fn with_indices(self, n_before: L, mu: L) -> Self {
         StepLanes { mu, mu2: mu * mu, one_minus_mu2: (-mu).fma(mu, L::splat(1.0)), n_before, ..self }
+    }
+
+    /// Whether a hit at `(x, y)` (the step's frame) lies inside the clear
+    /// aperture.
+    #[inline(always)]
+    pub(crate) fn inside(&self, x: L, y: L) -> L::Mask {
+        !(self.sd2 - x.fma(x, y * y)).is_neg()
     }
 
     /// Snell's `k` at this step for the squared cosine of incidence `cos2`.
@@ -583,7 +590,7 @@ pub(crate) fn carry<L: Real, const REFRACT: bool>(
     opl: L,
     root_k: L,
 ) -> (Lane<L>, L::Mask) {
-    let inside = !(s.sd2 - h.x.fma(h.x, h.y * h.y)).is_neg();
+    let inside = s.inside(h.x, h.y);
     let [dx, dy, dz] = if REFRACT { refract_at(s, h, d, root_k) } else { d };
     (Lane { px: h.x, py: h.y, pz: h.z, dx, dy, dz, opl: s.n_before.fma(h.t, opl) }, inside)
 }

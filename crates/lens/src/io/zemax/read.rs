@@ -31,7 +31,7 @@ enum Aperture {
 struct Block {
     number: usize,
     line: usize,
-    kind: Option<(String, usize)>,
+    kind: Option<String>,
     curv: f64,
     disz: Option<f64>,
     conic: f64,
@@ -188,7 +188,7 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
                                 ),
                             ));
                         }
-                        b.kind = Some((t, line));
+                        b.kind = Some(t);
                     }
                     "CURV" => b.curv = number(tok.get(1), line, "CURV")?,
                     "DISZ" => b.disz = Some(number(tok.get(1), line, "DISZ")?),
@@ -300,7 +300,7 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
             return Err(err(line, format!("surface {}: DISZ INFINITY: only the object may be at infinity", b.number)));
         }
         let (glass, ior) = glass_of(b, &f.gcat, catalogs)?;
-        let kind = b.kind.as_ref().map_or("STANDARD", |k| k.0.as_str());
+        let kind = b.kind.as_deref().unwrap_or("STANDARD");
         let terms = |odd: bool| -> Option<Vec<f64>> {
             let mut v: Vec<f64> = (1..=8)
                 .map(|k| {

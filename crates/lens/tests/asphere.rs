@@ -2,6 +2,8 @@
 //! against the one-ray path, paraxial optics at the vertex curvature, and
 //! validation over the clear aperture.
 
+mod common;
+
 use lens::{DVec3, Outcome, Prescription, Ray, RayBatch, Tracer};
 
 /// A prescription from JSON text.
@@ -63,13 +65,7 @@ fn batch_is_bit_for_bit_the_one_ray_path_on_aspheres() {
     let p = lens(ASPHERIC);
     let t = Tracer::forward(&p);
     let mut rays = Vec::new();
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut next = common::uniform(0x9e37_79b9_7f4a_7c15);
     for _ in 0..4001 {
         let o = DVec3::new(30.0 * (next() - 0.5), 30.0 * (next() - 0.5), -10.0);
         let d = DVec3::new(0.6 * (next() - 0.5), 0.6 * (next() - 0.5), 1.0);

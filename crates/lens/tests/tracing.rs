@@ -133,13 +133,7 @@ fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
 /// shipped lens both ways, in batches of awkward lengths.
 #[test]
 fn batch_is_bit_for_bit_the_one_ray_path_for_wild_rays() {
-    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-    let mut uniform = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut uniform = uniform(0x2545_f491_4f6c_dd1d);
     let mut kinds = [0usize; 4];
     for (name, p) in shipped_lenses() {
         let reach = p.surfaces().iter().filter_map(|s| s.semi_diameter).fold(0.0, f64::max) * 1.5;

@@ -431,13 +431,7 @@ mod tests {
     /// Newton iteration run to 1e-15 mm puts it to 1e-11 mm.
     #[test]
     fn the_error_estimate_ends_on_the_surface() {
-        let mut seed = 0x0123_4567_89ab_cdefu64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::trace::uniform(0x0123_4567_89ab_cdef);
         let cases = [
             (1.0 / 30.0, Asphere::new(-0.01, &[0.0, 1e-9, 1e-13], &[]).unwrap()),
             (1.0 / 40.0, Asphere::new(-0.7, &[1e-4, -3e-7, 2e-10], &[]).unwrap()),

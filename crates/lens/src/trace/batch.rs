@@ -6,11 +6,13 @@
 //! [`Tracer::trace`]: both run the same per-surface kernel, written once
 //! over the lane type of `lanes.rs`.
 //!
-//! Longer than most files (about 710 lines) on purpose: the batch's data
-//! (`RayBatch`), its chunk buffers and the two AVX2 drivers (structure of
+//! Longer than most files (about 850 lines) on purpose: the batch's data
+//! (`RayBatch`), its chunk buffers, the two AVX2 drivers (structure of
 //! arrays, slice of rays; the first also with each ray's own indices, for
-//! `spectral.rs`) share the chunk's layout and its invariants (idle lanes,
-//! statuses, the frame of each buffer), which read best in one place.
+//! `spectral.rs`) and the aspheric step's lock-step driver (`asphere_chunk`,
+//! whose per-lane arithmetic is `asphere.rs`'s) share the chunk's layout and
+//! its invariants (idle lanes, statuses, the frame of each buffer), which
+//! read best in one place.
 
 use super::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]

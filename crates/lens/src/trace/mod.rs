@@ -19,3 +19,15 @@ pub use ray::{Outcome, Ray};
 pub use spectral::SpectralBatch;
 pub use step::{intersect, refract, Hit};
 pub use tracer::Tracer;
+
+/// Uniform numbers in [0, 1) from a xorshift generator seeded with `seed`,
+/// for the unit tests: the same sequence on every run.
+#[cfg(test)]
+pub(crate) fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

@@ -684,13 +684,7 @@ mod tests {
     #[test]
     fn multiplied_root_is_within_its_bound_of_the_rationalised_one() {
         let mut worst = 0.0f64;
-        let mut seed = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = crate::trace::uniform(0x2545_f491_4f6c_dd1d);
         for _ in 0..200_000 {
             let r = (10f64).powf(1.0 + 3.0 * next()) * if next() < 0.5 { -1.0 } else { 1.0 };
             let c = 1.0 / r;

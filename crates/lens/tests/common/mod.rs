@@ -28,6 +28,17 @@ pub fn singlet(r1: Option<f64>, r2: Option<f64>, t: f64, n: f64, sd: f64, film: 
     Prescription::from_spec(&spec).expect("valid singlet")
 }
 
+/// Uniform numbers in [0, 1) from a xorshift generator seeded with `seed`:
+/// the same sequence on every run.
+pub fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+    move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 pub fn data_dir() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data")
 }

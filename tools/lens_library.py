@@ -20,8 +20,10 @@ offices. Transcriptions used: the Photons to Photos Optical Bench data files
 database (github.com/zpelgrims/lentil, polynomial-optics/database/
 lenses.json, MIT licence; its housing radii are lentil's and used here as
 clear semi-diameters), ray-optics' cell phone example (github.com/mjhoptics/
-ray-optics, docs/source/examples/Cell_Phone_lens, BSD-3-Clause). Only
-numbers are taken, no code.
+ray-optics, docs/source/examples/Cell_Phone_lens, BSD-3-Clause), the
+crayg renderer's lens files (github.com/Latios96/crayg, resources/
+lensfiles: numbers only, for the rows the Optical Bench excerpt lacked).
+Only numbers are taken, no code.
 """
 
 import json
@@ -254,6 +256,46 @@ LIBRARY = [
             (2092.573, 63.31, None, None, 32.0),
         ],
     },
+    {
+        "file": "master-prime-100mm-t1.3-us20070236805.json",
+        "name": "Cine prime 100 mm T1.3 with an asphere (US 2007/0236805 Example 4, ~ARRI/Zeiss Master Prime 100 mm)",
+        "source": "US 2007/0236805 (2007, Carl Zeiss) Example 4, as transcribed in the Photons to Photos Optical Bench "
+        "(US2007-0236805_Example04: Focal Length 99.80, F-Number 1.24, angle of view 17.81 degrees, Bf 40.123; the "
+        "focus gaps d9 = 14.959, d13 = 16.343, d22 = 1.00 for infinity); its clear diameters halved; the surfaces after the stop "
+        "and the even-asphere coefficients A4..A14 of surface 11 (conic 0) as the crayg renderer's transcription of "
+        "the same file gives them (github.com/Latios96/crayg, resources/lensfiles/ArriZeissMasterPrime.fx, which "
+        "numbers them a2..a12); the stop sized for F 1.24",
+        "efl": 99.80,
+        "f_number": 1.24,
+        "stated": "Optical Bench file: Focal Length 99.80, F-Number 1.24",
+        "stop_given": False,
+        "rows": [
+            (-1883.6, 4.7, 1.54075, 47.23, 89.06 / 2),
+            (101.45, 3.14, None, None, 83.94 / 2),
+            (127.72, 15.68, 1.61803, 63.33, 88.56 / 2),
+            (-281.84, 0.2, None, None, 88.56 / 2),
+            (66.355, 14.78, 1.43876, 94.99, 84.46 / 2),
+            (202.42, 0.1, None, None, 77.98 / 2),
+            (113.83, 4.85, 1.80527, 25.42, 79.16 / 2),
+            (89.125, 14.959, None, None, 72.83 / 2),
+            (52.33, 14.19, 1.75704, 47.82, 65.12 / 2),
+            (381.29, 7.54, None, None, 61.13 / 2),
+            (-230.02127, 2.8, 1.61344, 44.29, 53.56 / 2,
+             {"aspheric": [0.0, 8.669e-07, 9.230e-11, 2.783e-14, -9.209e-16, 1.576e-18, -8.587e-22]}),
+            (29.64, 16.343, None, None, 42.30 / 2),
+            (STOP, 18.938, None, None, 41.0351 / 2),
+            (-27.582, 2.97, 1.61344, 44.29, 39.42 / 2),
+            (285.92, 12.52, 1.69104, 54.82, 48.44 / 2),
+            (-41.867, 0.55, None, None, 50.48 / 2),
+            (188.36, 8.18, 1.69104, 54.82, 50.48 / 2),
+            (-76.076, 0.1, None, None, 50.48 / 2),
+            (110.6, 10.69, 1.60303, 65.44, 46.52 / 2),
+            (-46.305, 2.8, 1.65416, 39.63, 45.30 / 2),
+            (153.99, 1.0, None, None, 48.74 / 2),
+            (73.918, 4.22, 1.49702, 81.54, 39.96 / 2),
+            (158.49, 40.123, None, None, 39.96 / 2),
+        ],
+    },
 ]
 
 
@@ -271,7 +313,9 @@ def surfaces(rows):
             s["glass"] = glass(nd, vd)
         if sd is not None:
             s["semi_diameter"] = round(sd, 6)
-        if len(row) > 5:
+        if len(row) == 6:
+            s.update(row[5])  # the asphere's fields as the format names them
+        elif len(row) > 5:
             ec, coefs = row[5], row[6]
             k = round(ec - 1.0, 10)
             if k != 0:

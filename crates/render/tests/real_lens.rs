@@ -127,6 +127,9 @@ fn pupil_bounds_lose_no_light() {
     // the phone lens's last surface is 0.57 mm from the film: its bundles
     // there are a few tenths of a mm across, so the grid is that small
     const PHONE: (&str, [f64; 2], f64, f64) = ("../library/phone-5.6mm-f3.5-us7535658.json", [4.0, 3.0], 0.45, 0.3);
+    // the aspheric cine prime wide open: its rear group clips the corner bundles
+    const PRIME: (&str, [f64; 2], f64, f64) =
+        ("../library/master-prime-100mm-t1.3-us20070236805.json", [36.0, 24.0], 30.0, 2.0);
     for ((lens_file, sensor, half, focus), fno, shape, blades) in [
         (DG, 2.0, r#"{"shape": "circle"}"#, 0),
         (DG, 8.0, r#"{"shape": "circle"}"#, 0),
@@ -134,6 +137,7 @@ fn pupil_bounds_lose_no_light() {
         (DG, 2.0, r#"{"shape": "polygon", "blades": 3, "rotation_deg": 90}"#, 3),
         (PHONE, 3.5, r#"{"shape": "circle"}"#, 0),
         (PHONE, 4.0, r#"{"shape": "polygon", "blades": 6}"#, 6),
+        (PRIME, 1.24, r#"{"shape": "circle"}"#, 0),
     ] {
         let cam = format!(
             r#"{{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "{lens_file}",

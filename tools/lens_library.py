@@ -22,7 +22,9 @@ lenses.json, MIT licence; its housing radii are lentil's and used here as
 clear semi-diameters), ray-optics' cell phone example (github.com/mjhoptics/
 ray-optics, docs/source/examples/Cell_Phone_lens, BSD-3-Clause), the
 crayg renderer's lens files (github.com/Latios96/crayg, resources/
-lensfiles: numbers only, for the rows the Optical Bench excerpt lacked).
+lensfiles: numbers only, for the rows the Optical Bench excerpt lacked),
+and github.com/seb-hoch/pbrtmtf's transcriptions of W. J. Smith, Modern
+Lens Design (1992) pp. 304-305 (numbers only).
 Only numbers are taken, no code.
 """
 
@@ -294,6 +296,54 @@ LIBRARY = [
             (153.99, 1.0, None, None, 48.74 / 2),
             (73.918, 4.22, 1.49702, 81.54, 39.96 / 2),
             (158.49, 40.123, None, None, 39.96 / 2),
+        ],
+    },
+    {
+        "file": "double-gauss-100mm-f1.35-us2601805.json",
+        "name": "Double Gauss f = 100 f/1.35, 13 degrees (Lowenthal, US 2,601,805; Smith p. 305)",
+        "source": "W. J. Smith, Modern Lens Design (1992) p. 305: F/1.35 13 deg, US 2,601,805 (Lowenthal); EFL 100.4, "
+        "BFL 55.07, NA 0.3676 (f/1.36), semi-apertures and glasses (LaF2, SK55, FN11, SF8) by the book's nd and vd, "
+        "as transcribed in github.com/seb-hoch/pbrtmtf (p305_dgauss_lens.py); the stop sized for the book's NA",
+        "efl": 100.4,
+        "f_number": 1.36,
+        "stated": "Smith p. 305: EFL 100.4, NA 0.3676",
+        "stop_given": False,
+        "rows": [
+            (85.5, 11.6, 1.744, 44.7, 38.0),
+            (408.33, 1.5, None, None, 38.0),
+            (40.35, 17.0, 1.620, 60.1, 33.0),
+            (156.05, 3.5, 1.621, 36.2, 33.0),
+            (25.05, 13.7, None, None, 22.0),
+            (STOP, 8.3, None, None, 21.3),
+            (-36.8, 3.5, 1.689, 31.2, 22.0),
+            (55.0, 23.0, 1.744, 44.7, 26.0),
+            (-51.5, 1.0, None, None, 26.0),
+            (123.5, 17.0, 1.744, 44.7, 26.0),
+            (-204.96, 55.066, None, None, 26.0),
+        ],
+    },
+    {
+        "file": "double-gauss-100mm-f1.25-us2771006.json",
+        "name": "Double Gauss f = 100 f/1.25, 12 degrees (Werfel, US 2,771,006; Smith p. 304)",
+        "source": "W. J. Smith, Modern Lens Design (1992) p. 304: F/1.25 12 deg, US 2,771,006 (Werfel); EFL 100.1, "
+        "BFL 56.42, NA 0.3992 (f/1.25), semi-apertures and glasses (LaF3, BaF9, LF2, SF14, LaF2) by the book's nd and "
+        "vd, as transcribed in github.com/seb-hoch/pbrtmtf (p304_dgauss_lens.py); the stop sized for the book's NA",
+        "efl": 100.1,
+        "f_number": 1.25,
+        "stated": "Smith p. 304: EFL 100.1, NA 0.3992",
+        "stop_given": False,
+        "rows": [
+            (93.32, 11.32, 1.717, 48.0, 40.0),
+            (358.29, 0.4, None, None, 40.0),
+            (46.32, 20.0, 1.643, 48.0, 36.0),
+            (None, 2.0, 1.589, 40.9, 36.0),
+            (28.68, 14.0, None, None, 24.5),
+            (STOP, 10.0, None, None, 24.3),
+            (-41.32, 6.0, 1.762, 26.5, 24.0),
+            (60.8, 22.0, 1.744, 44.7, 30.0),
+            (-55.0, 13.0, None, None, 30.0),
+            (90.2, 16.0, 1.717, 48.0, 28.0),
+            (-212.58, 56.424, None, None, 28.0),
         ],
     },
 ]

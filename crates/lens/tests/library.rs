@@ -54,6 +54,18 @@ const LIBRARY: &[(&str, f64, Option<f64>, &str)] = &[
     ),
     ("library/takumar-us3451745.json", 100.0, None, "US 3,451,745 (Asahi): f = 100 (lentil database entry 6)"),
     (
+        "library/double-gauss-100mm-f1.35-us2601805.json",
+        100.4,
+        Some(1.36),
+        "W. J. Smith, Modern Lens Design (1992) p. 305 (US 2,601,805): EFL 100.4, NA 0.3676 (f/1.36)",
+    ),
+    (
+        "library/double-gauss-100mm-f1.25-us2771006.json",
+        100.1,
+        Some(1.25),
+        "W. J. Smith, Modern Lens Design (1992) p. 304 (US 2,771,006): EFL 100.1, NA 0.3992 (f/1.25)",
+    ),
+    (
         "library/master-prime-100mm-t1.3-us20070236805.json",
         99.80,
         Some(1.24),

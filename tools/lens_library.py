@@ -39,7 +39,9 @@ LENS = os.path.join("target", "release", "lens")
 OUT = os.path.join("lens-data", "library")
 
 # A surface: (radius or None for a plane, thickness, nd or None for air, vd,
-# semi-diameter or None, extra fields). The row marked "stop" is the stop.
+# semi-diameter or None), then optionally either a dict of the format's
+# asphere fields ({"aspheric": [...]}) or ray-optics' (ec = 1 + k, odd-power
+# coefficients r^1...). The row marked "stop" is the stop.
 STOP = "stop"
 
 

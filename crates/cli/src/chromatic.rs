@@ -15,7 +15,9 @@ const HALF_DIAGONAL_MM: f64 = 21.633;
 pub struct Args {
     #[command(flatten)]
     lens: LensArgs,
-    /// Field angle in degrees of the spot and the fans (object at infinity).
+    /// Field angle in degrees of the spot and the fans (a chief-ray angle;
+    /// for a design at a finite object distance, the object point whose
+    /// chief ray makes it).
     #[command(flatten)]
     field: FieldArgs,
     /// Largest field of the lateral-colour curve, degrees (default: the

@@ -182,3 +182,51 @@ fn real_aiming_traces_the_fisheye_to_its_full_field() {
     assert!(curves.fields.iter().all(|x| x.distortion_percent.is_finite()));
     assert!(curves.fields[4].distortion_percent < -50.0);
 }
+
+/// The double Gauss with a design object distance `d` mm.
+fn double_gauss_at(d: Option<f64>) -> Prescription {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../lens-data/double-gauss-50mm.json");
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut spec = PrescriptionSpec::from_json_str(&text, path).unwrap();
+    spec.object_distance_mm = d;
+    Prescription::from_spec(&spec).unwrap()
+}
+
+/// For a design at a finite object distance, the field curves take each
+/// angle as the object point whose chief ray makes it and land on that
+/// object's paraxial image plane: the distortion equals the one computed
+/// for the explicit object point (paraxial height m h), and the curves
+/// approach those for infinity as the object recedes.
+#[test]
+fn field_curves_follow_a_finite_design_object() {
+    let near = double_gauss_at(Some(600.0));
+    let first = FirstOrder::of(&near).unwrap();
+    let curves = field_curves(&near, Some(15.0), 4, Aim::Real).unwrap();
+    let im = lens::paraxial::imaging(&near, &first, lens::paraxial::ObjectDistance::Finite(600.0)).unwrap();
+    assert!((curves.image_z - (near.last_vertex_z() + im.image_distance)).abs() < 1e-9, "{}", curves.image_z);
+    for pt in &curves.fields[1..] {
+        let field = Field::at_angle(&near, &first, pt.field_deg);
+        let Field::Height { height, .. } = field else { panic!("{field:?}") };
+        assert!((pt.paraxial_height - im.magnification * height).abs() < 1e-9 * pt.paraxial_height.abs());
+        let d = distortion(&near, field, Aim::Real).unwrap();
+        assert!((pt.distortion_percent - d).abs() < 1e-9, "{} vs {d}", pt.distortion_percent);
+        // the spot diagram's chief ray of the same field lands where the curve says
+        let fan = ray_fan(&near, field, 5, Aim::Real, ImagePlane::Paraxial).unwrap();
+        assert!((fan.chief[1] - pt.chief_height).abs() < 1e-9, "{} vs {}", fan.chief[1], pt.chief_height);
+    }
+    // a finite object focuses behind the infinity focus: the curves move
+    let inf = field_curves(&double_gauss_at(None), Some(15.0), 4, Aim::Real).unwrap();
+    assert!(curves.image_z > inf.image_z + 1.0);
+    let far = field_curves(&double_gauss_at(Some(1e9)), Some(15.0), 4, Aim::Real).unwrap();
+    // 1e9 mm away: the focus moves by about f^2 / d = 2.5e-6 mm
+    assert!((far.image_z - inf.image_z).abs() < 1e-5, "{} vs {}", far.image_z, inf.image_z);
+    for (a, b) in far.fields.iter().zip(&inf.fields) {
+        assert!((a.chief_height - b.chief_height).abs() < 1e-4, "{} vs {}", a.chief_height, b.chief_height);
+        assert!((a.distortion_percent - b.distortion_percent).abs() < 1e-4);
+        assert!((a.tangential_focus - b.tangential_focus).abs() < 1e-3);
+        assert!((a.relative_illumination - b.relative_illumination).abs() < 1e-4);
+    }
+    for (a, b) in far.spherical.iter().zip(&inf.spherical) {
+        assert!((a.longitudinal - b.longitudinal).abs() < 1e-3, "{} vs {}", a.longitudinal, b.longitudinal);
+    }
+}

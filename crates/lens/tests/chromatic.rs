@@ -37,6 +37,38 @@ fn thin_singlet_axial_colour_is_f_over_v() {
     assert!((c.glasses[0].vd - 64.17).abs() < 0.01);
 }
 
+/// The same thin singlet designed for an object at 3 f: each wavelength's
+/// image lies at v = 1 / (1/f - 1/u), so the axial colour grows by
+/// (v/f)^2 = 2.25 against the object at infinity (thin lens; the thickness's
+/// share 1e-2 relative), and the lateral colour is the finite object's.
+#[test]
+fn axial_colour_follows_a_finite_design_object() {
+    let singlet = |object: &str| {
+        Prescription::from_json_str(
+            &format!(
+                r#"{{{object}"surfaces": [
+          {{"radius": 103.36, "thickness": 0.2, "glass": "SCHOTT:N-BK7", "semi_diameter": 2, "stop": true}},
+          {{"radius": -103.36, "thickness": 99.9, "semi_diameter": 2}}]}}"#
+            ),
+            "<singlet>",
+        )
+        .unwrap()
+    };
+    let inf = singlet("");
+    let f = FirstOrder::of(&inf).unwrap().efl;
+    let near = singlet(&format!(r#""object_distance_mm": {},"#, 3.0 * f));
+    let (a, b) =
+        (chromatic(&inf, 0.0, 1.0, Aim::Paraxial).unwrap(), chromatic(&near, 0.0, 1.0, Aim::Paraxial).unwrap());
+    let ratio = b.axial_colour / a.axial_colour;
+    assert!((ratio - 2.25).abs() < 0.01 * 2.25, "{ratio}");
+    // each point of the focal-shift curve is that wavelength's image of the object at 3 f
+    for pt in b.focal_shift.iter().step_by(10) {
+        // u and v from the (thin) lens's middle, 0.1 mm behind the first vertex
+        let v = 1.0 / (1.0 / pt.efl - 1.0 / (3.0 * f + 0.1));
+        assert!((pt.image_distance - (v - 0.1)).abs() < 1e-3 * v, "{} vs {}", pt.image_distance, v - 0.1);
+    }
+}
+
 /// The F-C achromat: F and C foci together (to the design's 1e-9 mm), d
 /// apart from them by the secondary spectrum of an N-BK7/SF5 pair (about
 /// f/2000), the focal-shift curve's minimum between F and C, and no

@@ -156,8 +156,11 @@ pub struct Chromatic {
     pub fans: Vec<WavelengthFan>,
 }
 
-/// The colour figures of `p` for an object at infinity; spot and fans at
-/// field angle `field_deg`, lateral colour from 0 to `max_field_deg`.
+/// The colour figures of `p` for its design object (at infinity, or at its
+/// finite `object_distance_mm`, where the fields are the object points whose
+/// chief rays make those angles, [`Field::at_angle`], and focus and focal
+/// shift are those of that object's paraxial image); spot and fans at field
+/// angle `field_deg`, lateral colour from 0 to `max_field_deg`.
 /// Errors where a wavelength has no paraxial image (afocal at that
 /// wavelength) or a chief ray is lost.
 pub fn chromatic(p: &Prescription, field_deg: f64, max_field_deg: f64, aim: Aim) -> Result<Chromatic, OpticsError> {
@@ -173,10 +176,11 @@ pub fn chromatic(p: &Prescription, field_deg: f64, max_field_deg: f64, aim: Aim)
     wavelengths.sort_by(f64::total_cmp);
     wavelengths.dedup();
     let (short, long) = (wavelengths[0], wavelengths[wavelengths.len() - 1]);
+    let object = ObjectDistance::from_mm(p.object_distance_mm().unwrap_or(f64::INFINITY))?;
     let image_distance = |nm: f64| -> Result<(f64, f64), OpticsError> {
         let q = p.at_wavelength(nm)?;
         let f = FirstOrder::of(&q)?;
-        Ok((f.efl, imaging(&q, &f, ObjectDistance::Infinity)?.image_distance))
+        Ok((f.efl, imaging(&q, &f, object)?.image_distance))
     };
     let (_, primary_image) = image_distance(primary.wavelength_nm())?;
     let (_, short_image) = image_distance(short)?;
@@ -200,7 +204,7 @@ pub fn chromatic(p: &Prescription, field_deg: f64, max_field_deg: f64, aim: Aim)
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), f| (a.min(f.focal_shift), b.max(f.focal_shift)));
 
     let first = FirstOrder::of(&primary)?;
-    let launcher_at = |deg: f64| Launcher::with_first(&primary, &first, Field::Angle(deg), aim);
+    let launcher_at = |deg: f64| Launcher::with_first(&primary, &first, Field::at_angle(&primary, &first, deg), aim);
     let traced: Vec<Prescription> = wavelengths.iter().map(|&nm| p.at_wavelength(nm)).collect::<Result<_, _>>()?;
 
     // lateral colour: real chief rays of every wavelength on the primary
@@ -214,7 +218,7 @@ pub fn chromatic(p: &Prescription, field_deg: f64, max_field_deg: f64, aim: Aim)
         let mut chief_y = Vec::with_capacity(traced.len());
         for q in &traced {
             let tracer = Tracer::forward_to_film(q, image_z - q.last_vertex_z());
-            chief_y.push(trace_rays(&tracer, &[ray])[0].chief(Field::Angle(deg))?.origin.y);
+            chief_y.push(trace_rays(&tracer, &[ray])[0].chief(launcher.field())?.origin.y);
         }
         let lateral_colour = chief_y[0] - chief_y[chief_y.len() - 1];
         lateral.push(LateralColourPoint { field_deg: deg, chief_y, lateral_colour });

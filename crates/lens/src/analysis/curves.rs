@@ -1,13 +1,20 @@
-//! Field curves for an object at infinity: distortion, tangential and
-//! sagittal field curvature, longitudinal spherical aberration, and
-//! vignetting / relative illumination against field.
+//! Field curves: distortion, tangential and sagittal field curvature,
+//! longitudinal spherical aberration, and vignetting / relative
+//! illumination against field angle.
+//!
+//! Fields are chief-ray angles. For an object at infinity that is the
+//! direction of the light; for a prescription with a finite design object
+//! distance (`object_distance_mm`) it is the object point whose chief ray
+//! makes that angle, as [`Field::at_angle`] gives it, and the image plane is
+//! that object's paraxial image plane (as optical design programs take an
+//! angle field with a finite object).
 
 use super::bundle::{trace_rays, Bundle, Landing};
 use super::launch::{Aim, Field, Launcher};
 use super::pattern::{points, Pattern};
 use crate::error::OpticsError;
 use crate::model::Prescription;
-use crate::paraxial::FirstOrder;
+use crate::paraxial::{FirstOrder, ObjectDistance};
 use crate::trace::Ray;
 use crate::trace::Tracer;
 use glam::DVec3;
@@ -20,13 +27,20 @@ const DELTA: f64 = 1e-4;
 const GRID: usize = 41;
 
 /// Field curves at one field angle.
+///
+/// The paraxial image height is `S tan(theta)`, with `S` the EFL for an
+/// object at infinity and `|m| D` for a finite object (m the paraxial
+/// magnification, D the object's distance from the entrance pupil), which
+/// tends to the EFL as the object recedes; relative illumination uses the
+/// same `S`.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct FieldPoint {
     /// Field angle, degrees.
     pub field_deg: f64,
     /// Real chief-ray height on the paraxial image plane, mm.
     pub chief_height: f64,
-    /// Paraxial image height EFL tan(theta), mm.
+    /// Paraxial image height S tan(theta), mm (S: the EFL for an object at
+    /// infinity, |m| D for a finite object).
     pub paraxial_height: f64,
     /// Distortion 100 (real - paraxial) / paraxial, percent (0 on axis).
     pub distortion_percent: f64,
@@ -39,8 +53,9 @@ pub struct FieldPoint {
     /// vignetting).
     pub unvignetted_fraction: f64,
     /// Image irradiance relative to the axis: unvignetted fraction x
-    /// cos(theta) x f^2 / (dh/dtheta * h / sin(theta)), the cos^4 law
-    /// generalised by the real chief-ray height h(theta).
+    /// cos(theta) x S^2 / (dh/dtheta * h / sin(theta)), the cos^4 law
+    /// generalised by the real chief-ray height h(theta) (S as for
+    /// `paraxial_height`).
     pub relative_illumination: f64,
 }
 
@@ -77,9 +92,10 @@ pub fn field_curves(
     aim: Aim,
 ) -> Result<FieldCurves, OpticsError> {
     let first = FirstOrder::of(p)?;
-    let image_z = p.last_vertex_z() + first.bfl;
-    let tracer = Tracer::forward_to_film(p, first.bfl);
-    let base = Launcher::with_first(p, &first, Field::Angle(0.0), aim)?;
+    let geometry = Geometry::of(p, &first)?;
+    let image_z = geometry.image_z;
+    let tracer = Tracer::forward_to_film(p, geometry.film);
+    let base = Launcher::with_first(p, &first, geometry.field(0.0), aim)?;
     let max = match max_field_deg {
         Some(m) if m.is_finite() && m > 0.0 && m < 90.0 => m,
         Some(m) => {
@@ -89,19 +105,62 @@ pub fn field_curves(
                 expected: "an angle in degrees between 0 and 90",
             })
         }
-        None => largest_field(&base, &tracer),
+        None => largest_field(&base, &tracer, &geometry),
     };
     if n > 10_000 {
         return Err(OpticsError::BadInput { name: "fields", value: n as f64, expected: "at most 10000 fields" });
     }
     let n = n.max(2);
-    let on_axis = vignetting(&base, &tracer, 0.0)?;
+    let on_axis = vignetting(&base, &tracer, geometry.field(0.0))?;
     let mut fields = Vec::with_capacity(n);
     for k in 0..n {
         let deg = max * k as f64 / (n - 1) as f64;
-        fields.push(field_point(&base, &tracer, &first, deg, on_axis)?);
+        fields.push(field_point(&base, &tracer, &geometry, deg, on_axis)?);
     }
-    Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, image_z) })
+    Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, &geometry) })
+}
+
+/// What an angle field means for a prescription: its object (at infinity,
+/// or the design's finite object distance), the paraxial image plane of that
+/// object, and the scale S of the paraxial image height S tan(theta).
+struct Geometry {
+    /// The design object distance d, mm in front of the first vertex, and
+    /// the paraxial entrance pupil's z, if the object is finite.
+    finite: Option<(f64, f64)>,
+    /// Distance of the paraxial image plane from the last vertex, mm.
+    film: f64,
+    /// z of the paraxial image plane, mm from the first vertex.
+    image_z: f64,
+    /// Paraxial image height per unit tan(theta), mm.
+    scale: f64,
+}
+
+impl Geometry {
+    fn of(p: &Prescription, first: &FirstOrder) -> Result<Self, OpticsError> {
+        match p.object_distance_mm() {
+            Some(d) if d.is_finite() => {
+                let object = ObjectDistance::from_mm(d)?;
+                let im = crate::paraxial::imaging(p, first, object)?;
+                // the object's distance from the entrance pupil
+                let to_pupil = d + first.entrance_pupil.z;
+                Ok(Self {
+                    finite: Some((d, first.entrance_pupil.z)),
+                    film: im.image_distance,
+                    image_z: p.last_vertex_z() + im.image_distance,
+                    scale: (im.magnification * to_pupil).abs(),
+                })
+            }
+            _ => Ok(Self { finite: None, film: first.bfl, image_z: p.last_vertex_z() + first.bfl, scale: first.efl }),
+        }
+    }
+
+    /// The field of chief-ray angle `deg`, degrees.
+    fn field(&self, deg: f64) -> Field {
+        match self.finite {
+            Some((d, z_ep)) => Field::Height { object_distance: d, height: -(d + z_ep) * deg.to_radians().tan() },
+            None => Field::Angle(deg),
+        }
+    }
 }
 
 /// Distortion at one field, percent: 100 (h - h_p) / h_p with h the real
@@ -127,8 +186,8 @@ fn chief(launcher: &Launcher, tracer: &Tracer) -> Result<[f64; 2], OpticsError> 
     Ok([r.origin.x, r.origin.y])
 }
 
-fn chief_height(base: &Launcher, tracer: &Tracer, deg: f64) -> Result<f64, OpticsError> {
-    Ok(chief(&base.at_field(Field::Angle(deg))?, tracer)?[1])
+fn chief_height(base: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, OpticsError> {
+    Ok(chief(&base.at_field(field)?, tracer)?[1])
 }
 
 /// The chief ray and its four neighbours (the focus-locating pairs).
@@ -137,18 +196,16 @@ const PROBES: [(f64, f64); 5] = [(0.0, 0.0), (0.0, DELTA), (0.0, -DELTA), (DELTA
 fn field_point(
     base: &Launcher,
     tracer: &Tracer,
-    first: &FirstOrder,
+    geometry: &Geometry,
     deg: f64,
     on_axis: f64,
 ) -> Result<FieldPoint, OpticsError> {
-    let launcher = base.at_field(Field::Angle(deg))?;
+    let field = geometry.field(deg);
+    let launcher = base.at_field(field)?;
     let theta = deg.to_radians();
     let probes = Bundle::trace(&launcher, tracer, PROBES.to_vec())?;
-    let h = {
-        let r = probes.landings[0].chief(Field::Angle(deg))?;
-        r.origin.y
-    };
-    let paraxial = first.efl * theta.tan();
+    let h = probes.landings[0].chief(field)?.origin.y;
+    let paraxial = geometry.scale * theta.tan();
     let distortion = if deg == 0.0 { 0.0 } else { 100.0 * (h - paraxial) / paraxial };
     let pair = |a: usize, b: usize, tangential: bool| -> Result<f64, OpticsError> {
         match (probes.landings[a].reached(), probes.landings[b].reached()) {
@@ -161,23 +218,23 @@ fn field_point(
                 Ok(if sa == sb { 0.0 } else { -(pa - pb) / (sa - sb) })
             }
             _ => Err(OpticsError::ChiefRayLost {
-                field: Field::Angle(deg).describe(),
+                field: field.describe(),
                 why: "a ray next to the chief ray is vignetted".into(),
             }),
         }
     };
     let tangential_focus = pair(1, 2, true)?;
     let sagittal_focus = pair(3, 4, false)?;
-    let fraction = vignetting(base, tracer, deg)?;
+    let fraction = vignetting(base, tracer, field)?;
     let relative_illumination = if deg == 0.0 {
         1.0
     } else {
         // dh/dtheta by a central difference of the real chief-ray height
         let step = (0.01f64).min(deg / 2.0);
-        let hp = chief_height(base, tracer, deg + step).unwrap_or(h);
-        let hm = chief_height(base, tracer, deg - step)?;
+        let hp = chief_height(base, tracer, geometry.field(deg + step)).unwrap_or(h);
+        let hm = chief_height(base, tracer, geometry.field(deg - step))?;
         let dh = (hp - hm) / (2.0 * step.to_radians());
-        let f = first.efl;
+        let f = geometry.scale;
         let ri = (fraction / on_axis) * theta.cos() * f * f / (dh * h / theta.sin());
         if ri.is_finite() {
             ri
@@ -197,10 +254,10 @@ fn field_point(
     })
 }
 
-/// Fraction of a square pupil grid that reaches the image at `deg` (a ray
+/// Fraction of a square pupil grid that reaches the image at `field` (a ray
 /// that cannot be aimed counts as vignetted).
-fn vignetting(base: &Launcher, tracer: &Tracer, deg: f64) -> Result<f64, OpticsError> {
-    let launcher = base.at_field(Field::Angle(deg))?;
+fn vignetting(base: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, OpticsError> {
+    let launcher = base.at_field(field)?;
     let pts = points(Pattern::Square, GRID);
     let total = pts.len();
     let b = Bundle::trace(&launcher, tracer, pts)?;
@@ -209,9 +266,9 @@ fn vignetting(base: &Launcher, tracer: &Tracer, deg: f64) -> Result<f64, OpticsE
 
 /// The largest field (degrees, at most 89) whose chief ray and its four
 /// neighbours (the focus-locating pairs) reach the image.
-fn largest_field(base: &Launcher, tracer: &Tracer) -> f64 {
+fn largest_field(base: &Launcher, tracer: &Tracer, geometry: &Geometry) -> f64 {
     let ok = |deg: f64| {
-        let Ok(l) = base.at_field(Field::Angle(deg)) else { return false };
+        let Ok(l) = base.at_field(geometry.field(deg)) else { return false };
         Bundle::trace(&l, tracer, PROBES.to_vec()).is_ok_and(|b| b.vignetted() == 0)
     };
     let mut lo = 0.0;
@@ -237,12 +294,22 @@ fn largest_field(base: &Launcher, tracer: &Tracer) -> f64 {
     lo
 }
 
-/// Longitudinal spherical aberration of the on-axis bundle at 21 zones.
-fn spherical(tracer: &Tracer, first: &FirstOrder, image_z: f64) -> Vec<SphericalZone> {
+/// Longitudinal spherical aberration of the on-axis bundle at 21 zones:
+/// rays through the paraxial entrance pupil at 0.05, 0.1, ... 1 of its
+/// radius, parallel to the axis for an object at infinity, from the axial
+/// object point for a finite one.
+fn spherical(tracer: &Tracer, first: &FirstOrder, geometry: &Geometry) -> Vec<SphericalZone> {
     let r_ep = first.entrance_pupil.diameter / 2.0;
     let z_ep = first.entrance_pupil.z;
-    let rays: Vec<Ray> =
-        (1..=20).map(|k| Ray { origin: DVec3::new(0.0, k as f64 / 20.0 * r_ep, z_ep), direction: DVec3::Z }).collect();
+    let image_z = geometry.image_z;
+    let ray = |h: f64| match geometry.finite {
+        Some((d, _)) => {
+            let origin = DVec3::new(0.0, 0.0, -d);
+            Ray { origin, direction: (DVec3::new(0.0, h, z_ep) - origin).normalize() }
+        }
+        None => Ray { origin: DVec3::new(0.0, h, z_ep), direction: DVec3::Z },
+    };
+    let rays: Vec<Ray> = (1..=20).map(|k| ray(k as f64 / 20.0 * r_ep)).collect();
     let mut zones = vec![SphericalZone { pupil: 0.0, longitudinal: 0.0 }];
     for (k, l) in (1..=20).zip(trace_rays(tracer, &rays)) {
         if let Landing::Reached(ray) = l {

@@ -291,7 +291,13 @@ impl Launcher {
 
     fn newton(&self, field: Field, target: DVec2, start: DVec2) -> Result<DVec2, String> {
         let scale = self.stop_radius.max(self.first.entrance_pupil.diameter / 2.0);
-        let tol = 1e-12 * scale.max(1.0);
+        // a far object point's own rounding moves its ray at the stop by
+        // about eps times its distance: no aim can do better
+        let floor = match field {
+            Field::Height { object_distance, height } => 8.0 * f64::EPSILON * object_distance.hypot(height),
+            Field::Angle(_) => 0.0,
+        };
+        let tol = (1e-12 * scale.max(1.0)).max(floor);
         let h = 1e-7 * scale;
         let mut e = start;
         let mut f = self.stop_hit(field, e).ok_or("the starting ray misses a surface before the stop")? - target;
@@ -322,6 +328,13 @@ impl Launcher {
                 }
                 step *= 0.5;
                 if step < 1e-6 {
+                    // at the rounding floor of the ray itself (an object far
+                    // away: its point's last bits move the ray at the stop
+                    // by more than the tolerance) the miss cannot shrink;
+                    // accept it as the iterations' end does
+                    if f.length() <= tol * 1e3 {
+                        return Ok(e);
+                    }
                     return Err(format!("no step reduces the miss of {:.3e} mm at the stop", f.length()));
                 }
             }

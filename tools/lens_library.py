@@ -348,6 +348,52 @@ LIBRARY = [
             (-212.58, 56.424, None, None, 28.0),
         ],
     },
+    {
+        "file": "nikkor-z-14-30mm-f4-wide-jp2019008031.json",
+        "name": "Wide-angle zoom at 14.42 mm f/4, four aspheres (JP 2019-008031 Example 1 at its wide end, ~Nikon Nikkor Z 14-30 mm f/4 S)",
+        "source": "JP 2019-008031 (Nikon) Example 1 at the wide-angle end (f = 14.42, F 4.0, half field 57.68 degrees; "
+        "the zoom gaps d8 = 28.616, d14 = 7.483 and the back focus 21.36 of that end), as ray-optics' model of it gives "
+        "it (github.com/mjhoptics/ray-optics, src/rayoptics/optical/tests/Nikon Nikkor Z 14-30mm f-4 S.roa, "
+        "BSD-3-Clause: radii from its curvatures, gaps, nd and vd, clear semi-diameters, and the even-asphere "
+        "coefficients of surfaces 2, 4, 17 and 26 with their conics); the stop sized for F 4.0",
+        "efl": 14.42,
+        "f_number": 4.0,
+        "stated": "JP 2019-008031 Example 1, wide end: f = 14.42, F 4.0 (ray-optics' model: its spec sheet)",
+        "stop_given": False,
+        "rows": [
+            (190.7535, 3.0, 1.6937, 53.32, 29.285),
+            (18.8098, 9.5, None, None, 22.485,
+             {"conic": -1.0, "aspheric": [0.0, -1.33157e-05, -3.07345e-08, 6.9126e-11, -3.76684e-14]}),
+            (51.563, 2.9, 1.6937, 53.32, 19.205),
+            (22.702, 9.7, None, None, 14.475,
+             {"conic": -1.0, "aspheric": [0.0, 3.67009e-05, 1.37031e-07, -5.20756e-10, 3.14884e-12, -5.6153e-15]}),
+            (-71.0651, 1.9, 1.49782, 82.57, 15.05),
+            (44.4835, 0.1, None, None, 15.05),
+            (32.608, 4.5, 1.90265, 35.73, 15.05),
+            (296.5863, 28.616, None, None, 15.05),
+            (63.0604, 2.0, 1.59349, 67.0, 9.04),
+            (499.8755, 0.1, None, None, 9.04),
+            (24.0057, 1.2, 1.883, 40.66, 9.605),
+            (13.347, 4.5, 1.56883, 56.0, 8.54),
+            (333.9818, 2.5, None, None, 8.54),
+            (STOP, 7.483, None, None, 5.6335),
+            (36.3784, 1.1, 1.816, 46.59, 8.59),
+            (14.0097, 4.71, 1.51612, 64.08, 8.42),
+            (61.0448, 0.2, None, None, 8.42,
+             {"aspheric": [0.0, 1.75905e-05, -6.64635e-08, 2.26551e-10, -4.40763e-12]}),
+            (27.9719, 3.15, 1.49782, 82.57, 8.55),
+            (-75.3921, 0.25, None, None, 8.55),
+            (91.9654, 3.05, 1.49782, 82.57, 8.915),
+            (-29.3923, 1.579, None, None, 8.915),
+            (72.093, 1.0, 1.795, 45.31, 9.065),
+            (20.9929, 5.766, None, None, 9.065),
+            (-538.2301, 4.8, 1.49782, 82.57, 10.935),
+            (-20.1257, 0.1, None, None, 10.935),
+            (-38.9341, 1.4, 1.76546, 46.75, 11.06,
+             {"conic": -1.0, "aspheric": [0.0, -2.67902e-05, -3.34364e-08, -1.13765e-10, -1.88017e-13]}),
+            (154.832, 21.36, None, None, 11.815),
+        ],
+    },
 ]
 
 

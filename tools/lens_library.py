@@ -394,6 +394,40 @@ LIBRARY = [
             (154.832, 21.36, None, None, 11.815),
         ],
     },
+    {
+        "file": "kit-zoom-18.5mm-f3.5-wide-us7277232.json",
+        "name": "Kit zoom at 18.5 mm f/3.56, hybrid asphere (US 7,277,232 Example 4 at its wide end, ~Nikon AF-S DX 18-55 mm f/3.5-5.6G ED II)",
+        "source": "US 7,277,232 (Nikon) Example 4 at the wide-angle end (f = 18.5, F 3.56, image height 14.2, the zoom "
+        "gap d5 = 44.0936 and the back focus 41.84285 of that end), as ray-optics' model of it gives it "
+        "(github.com/mjhoptics/ray-optics, src/rayoptics/optical/tests/US007277232_Example04P.roa, BSD-3-Clause: "
+        "radii from its curvatures, gaps, nd and vd, clear semi-diameters; its zero-thickness dummy plane after the "
+        "last lens dropped). The asphere of surface 3 (the resin layer's rear of the hybrid front element) has "
+        "kappa = 0.0375 (conic -0.9625) and five coefficients, read here as Nikon writes them, C3 |r|^3, C4 r^4, "
+        "C6 r^6, C8 r^8, C10 r^10 (the model stores them as r^3..r^7, which leaves the corner 3.5 times less sharp); "
+        "the stop sized for F 3.56",
+        "efl": 18.5,
+        "f_number": 3.56,
+        "stated": "US 7,277,232 Example 4, wide end: f = 18.5, F 3.56 (ray-optics' model: its spec sheet)",
+        "stop_given": False,
+        "rows": [
+            (181.0591, 2.0, 1.7725, 49.61, 20.31),
+            (17.2, 0.2, 1.55389, 38.09, 14.995),
+            (12.763, 12.25, None, None, 14.76,
+             {"conic": -0.9625,
+              "odd_aspheric": [0.0, 0.0, 7.9879e-06, 3.0368e-06, 0.0, -2.1516e-08, 0.0, 5.2594e-11, 0.0, -2.5891e-13]}),
+            (33.8814, 2.8, 1.86074, 23.06, 15.23),
+            (65.8125, 44.0936, None, None, 15.23),
+            (42.5378, 2.6, 1.497, 81.61, 9.18),
+            (-94.5446, 1.8, None, None, 9.18),
+            (STOP, 2.0, None, None, 7.8985),
+            (24.2385, 4.0, 1.5168, 64.1, 9.14),
+            (-35.8523, 0.8, 1.7725, 49.61, 8.83),
+            (67.243, 11.2, None, None, 8.83),
+            (54.1555, 0.8, 1.834, 37.17, 8.83),
+            (15.5723, 4.5, 1.5168, 64.1, 8.83),
+            (-35.4635, 41.84285, None, None, 8.83),
+        ],
+    },
 ]
 
 

@@ -37,7 +37,11 @@ pub fn run(a: Args) -> CmdResult {
         print_json(&serde_json::to_value(&c)?)?;
         return Ok(ExitCode::SUCCESS);
     }
-    outln!("field curves to {:.3} deg on the paraxial image plane z = {:.6} mm", c.max_field_deg, c.image_z);
+    let object = match p.object_distance_mm() {
+        Some(d) if d.is_finite() => format!(" of the object {d} mm in front of the lens"),
+        _ => String::new(),
+    };
+    outln!("field curves to {:.3} deg on the paraxial image plane{object} z = {:.6} mm", c.max_field_deg, c.image_z);
     outln!(
         "{:>8} {:>12} {:>12} {:>11} {:>12} {:>12} {:>9} {:>9}",
         "deg",

@@ -156,7 +156,7 @@ fn the_table_covers_the_library_folder() {
 /// The phone lens's aspheres (odd terms to r^10, conics to k = -222):
 /// four rays at 25 degrees through its entrance pupil (the stop, at the
 /// first vertex) land on the film where an independent trace in 40-digit
-/// arithmetic puts them (`python3 tools/phone_lens_mpmath.py`), to 1e-12 mm.
+/// arithmetic puts them (`python3 tools/mpmath_trace.py phone`), to 1e-12 mm.
 #[test]
 fn the_phone_lens_traces_as_a_40_digit_trace_does() {
     use lens::{DVec3, Ray, Tracer};
@@ -309,4 +309,34 @@ fn the_kit_zooms_asphere_reads_as_nikon_writes_it() {
         assert!(nikon < 0.06, "{file}: {deg} deg: RMS {nikon} mm");
         assert!(nikon < 0.6 * other, "{file}: {deg} deg: {nikon} against {other}");
     }
+}
+
+/// The 14.42 mm zoom end's real chief ray at 57.68 degrees, to the plane
+/// 21.36 mm behind the last vertex: an independent trace in 40-digit
+/// arithmetic of the same start (`python3 tools/mpmath_trace.py wide-zoom`)
+/// lands it at y = 20.362505270548738898 mm with direction (0,
+/// 0.44761330500175735981, 0.89422722458299358944): ours agrees to 1e-12
+/// mm and 1e-14. The Java port of ray-optics (its integration test
+/// `Nikkor14mmTest`, on the same numbers and aiming) lands it at
+/// 20.362505270545146 mm: 4e-12 mm from ours (its direction, 0.4476133317,
+/// differs from both by 3e-8: that test compares directions loosely).
+#[test]
+fn the_wide_zoom_traces_as_a_40_digit_trace_does() {
+    use lens::analysis::{Aim, Field, Launcher};
+    use lens::{DVec3, Ray, Tracer};
+    let p = load("library/nikkor-z-14-30mm-f4-wide-jp2019008031.json");
+    let launcher = Launcher::new(&p, Field::Angle(57.68), Aim::Real).unwrap();
+    // the start the 40-digit trace takes: the real chief ray as aimed
+    let chief =
+        Ray::new(DVec3::new(0.0, -31.814060035868994, -1.0), DVec3::new(0.0, 0.8450752575720964, 0.5346473688698513))
+            .unwrap();
+    let aimed = launcher.ray(0.0, 0.0).unwrap();
+    assert!((aimed.origin - chief.origin).length() < 1e-9 && (aimed.direction - chief.direction).length() < 1e-12);
+    let ray = Tracer::forward_to_film(&p, 21.36).trace(chief).reached().expect("the chief ray reaches the film");
+    println!("chief ray at {:?}, direction {:?}", ray.origin, ray.direction);
+    assert!((ray.origin.y - 20.362505270548738898).abs() < 1e-12, "{}", ray.origin.y);
+    assert!((ray.origin.y - 20.362505270545146).abs() < 1e-11, "ray-optics (Java): {}", ray.origin.y);
+    assert!(ray.origin.x.abs() < 1e-15);
+    assert!((ray.direction.y - 0.44761330500175735981).abs() < 1e-14, "{}", ray.direction.y);
+    assert!((ray.direction.z - 0.89422722458299358944).abs() < 1e-14, "{}", ray.direction.z);
 }

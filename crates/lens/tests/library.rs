@@ -315,7 +315,7 @@ fn the_kit_zooms_asphere_reads_as_nikon_writes_it() {
 /// 21.36 mm behind the last vertex: an independent trace in 40-digit
 /// arithmetic of the same start (`python3 tools/mpmath_trace.py wide-zoom`)
 /// lands it at y = 20.362505270548738898 mm with direction (0,
-/// 0.44761330500175735981, 0.89422722458299358944): ours agrees to 1e-12
+/// 0.44761330500175735981, 0.894_227_224_582_993_6): ours agrees to 1e-12
 /// mm and 1e-14. The Java port of ray-optics (its integration test
 /// `Nikkor14mmTest`, on the same numbers and aiming) lands it at
 /// 20.362505270545146 mm: 4e-12 mm from ours (its direction, 0.4476133317,
@@ -334,9 +334,9 @@ fn the_wide_zoom_traces_as_a_40_digit_trace_does() {
     assert!((aimed.origin - chief.origin).length() < 1e-9 && (aimed.direction - chief.direction).length() < 1e-12);
     let ray = Tracer::forward_to_film(&p, 21.36).trace(chief).reached().expect("the chief ray reaches the film");
     println!("chief ray at {:?}, direction {:?}", ray.origin, ray.direction);
-    assert!((ray.origin.y - 20.362505270548738898).abs() < 1e-12, "{}", ray.origin.y);
+    assert!((ray.origin.y - 20.362_505_270_548_74).abs() < 1e-12, "{}", ray.origin.y);
     assert!((ray.origin.y - 20.362505270545146).abs() < 1e-11, "ray-optics (Java): {}", ray.origin.y);
     assert!(ray.origin.x.abs() < 1e-15);
-    assert!((ray.direction.y - 0.44761330500175735981).abs() < 1e-14, "{}", ray.direction.y);
-    assert!((ray.direction.z - 0.89422722458299358944).abs() < 1e-14, "{}", ray.direction.z);
+    assert!((ray.direction.y - 0.447_613_305_001_757_36).abs() < 1e-14, "{}", ray.direction.y);
+    assert!((ray.direction.z - 0.894_227_224_582_993_6).abs() < 1e-14, "{}", ray.direction.z);
 }

@@ -23,6 +23,8 @@ $lens render lens-data/scenes/phone-aspheric.json -o "$tmp/phone-aspheric.png"
 jpeg "$tmp/phone-aspheric.png" "$out/phone-aspheric.jpg"
 $lens render lens-data/scenes/portrait-cine-prime.json -o "$tmp/portrait-cine-prime.png"
 jpeg "$tmp/portrait-cine-prime.png" "$out/portrait-cine-prime.jpg"
+$lens render lens-data/scenes/ultrawide-aspheric.json -o "$tmp/ultrawide-aspheric.png"
+jpeg "$tmp/ultrawide-aspheric.png" "$out/ultrawide-aspheric.jpg"
 rm -r "$tmp"
 # a layout of every lens in the library (docs/lenses.md)
 for f in lens-data/library/*.json; do

@@ -213,3 +213,60 @@ fn pupil_bounds_lose_no_light() {
         }
     }
 }
+
+/// Under uniform light the real-lens camera's film falls off from the
+/// centre as `lens field` says the lens's relative illumination does (the
+/// light each field's bundle gathers, pupil growth and vignetting included,
+/// times the image area per unit of object): the 14.42 mm end of the wide
+/// zoom, whose retrofocus entrance pupil grows off the axis (at the frame's
+/// edge 0.52 of the centre, where the cos^4 law would give 0.14), and the
+/// double Gauss at f/2 (vignetted), within 3% of the centre's value.
+#[test]
+fn uniform_light_falls_off_as_the_relative_illumination() {
+    use lens::analysis::curves::field_curves;
+    use lens::analysis::Aim;
+    for (file, fno, sensor, max_deg) in [
+        ("../library/nikkor-z-14-30mm-f4-wide-jp2019008031.json", 4.0, [36.0, 20.25], 57.6),
+        ("../double-gauss-50mm.json", 2.0, [36.0, 24.0], 23.0),
+    ] {
+        let (w, h) = (48usize, (48.0 * sensor[1] / sensor[0]) as usize);
+        let s = scene(&format!(
+            r#"{{"camera": {{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "{file}",
+                 "f_number": {fno}, "focus_distance": 1000, "sensor_mm": [{}, {}]}},
+                "film": {{"width": {w}, "height": {h}, "spp": 256, "spectral": "off"}},
+                "background": {{"type": "sky", "horizon": [1, 1, 1], "zenith": [1, 1, 1], "ground": [1, 1, 1]}},
+                "materials": {{}}, "shapes": []}}"#,
+            sensor[0], sensor[1]
+        ));
+        let render::camera::Camera::Real(real) = &s.camera else { panic!() };
+        let curves = field_curves(real.prescription(), Some(max_deg), 100, Aim::Real).unwrap();
+        let ri_at = |r: f64| {
+            let f = &curves.fields;
+            let k = f.windows(2).position(|p| p[1].chief_height >= r).expect("height within the curves");
+            let (a, b) = (&f[k], &f[k + 1]);
+            let t = (r - a.chief_height) / (b.chief_height - a.chief_height);
+            a.relative_illumination + t * (b.relative_illumination - a.relative_illumination)
+        };
+        let (img, _) = render(&s, Options { spp: 256, seed: 7 }, &|_| {});
+        // 2 x 2 pixel blocks: the centre, the middle of the right edge and
+        // of the top, the corner
+        let block = |x: usize, y: usize| {
+            let mut sum = 0.0;
+            for (i, j) in [(x, y), (x + 1, y), (x, y + 1), (x + 1, y + 1)] {
+                sum += img.pixels[j * w + i].y;
+            }
+            let (u, v) = ((x + 1) as f64 / w as f64 - 0.5, (y + 1) as f64 / h as f64 - 0.5);
+            (sum / 4.0, (u * sensor[0]).hypot(v * sensor[1]))
+        };
+        let (centre, _) = block(w / 2 - 1, h / 2 - 1);
+        for (x, y) in [(w - 2, h / 2 - 1), (w / 2 - 1, 0), (w - 2, 0)] {
+            let (value, r) = block(x, y);
+            let (got, want) = (value / centre, ri_at(r));
+            println!("{file}: image height {r:.2} mm: film {got:.4} of the centre, relative illumination {want:.4}");
+            assert!(
+                (got - want).abs() < 0.03,
+                "{file}: at {r} mm the film has {got} of the centre, the analysis {want}"
+            );
+        }
+    }
+}

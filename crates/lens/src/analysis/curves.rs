@@ -17,7 +17,7 @@ use crate::model::Prescription;
 use crate::paraxial::{FirstOrder, ObjectDistance};
 use crate::trace::Ray;
 use crate::trace::Tracer;
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use serde::Serialize;
 
 /// Pupil offset of the ray pairs that locate the tangential and sagittal
@@ -25,6 +25,9 @@ use serde::Serialize;
 const DELTA: f64 = 1e-4;
 /// Width of the square pupil grid used for the vignetting fraction.
 const GRID: usize = 41;
+/// Width of the square grid over the stop with which relative illumination
+/// measures the light a bundle gathers ([`gathered`]).
+const LIGHT_GRID: usize = 81;
 
 /// Field curves at one field angle.
 ///
@@ -52,10 +55,15 @@ pub struct FieldPoint {
     /// Fraction of a square pupil grid that reaches the image (1 = no
     /// vignetting).
     pub unvignetted_fraction: f64,
-    /// Image irradiance relative to the axis: unvignetted fraction x
-    /// cos(theta) x S^2 / (dh/dtheta * h / sin(theta)), the cos^4 law
-    /// generalised by the real chief-ray height h(theta) (S as for
-    /// `paraxial_height`).
+    /// Image irradiance relative to the axis for a uniformly bright object:
+    /// the light the field's bundle gathers against the axis's (its beam's
+    /// cross-section for an object at infinity, its projected solid angle
+    /// for a finite object, over the rays that pass, the real stop's image
+    /// measured as it is: pupil growth off the axis, its cos theta and
+    /// vignetting), times S^2 sin(theta) / (h dh/dtheta) with h(theta) the
+    /// real chief-ray height (over cos^3 theta more for a finite object; S as
+    /// for `paraxial_height`). The cos^4 law for a thin lens stopped at
+    /// itself.
     pub relative_illumination: f64,
 }
 
@@ -112,10 +120,13 @@ pub fn field_curves(
     }
     let n = n.max(2);
     let on_axis = vignetting(&base, &tracer, geometry.field(0.0))?;
+    // relative illumination fills the real stop whatever the aim asked for
+    let real = Launcher::with_first(p, &first, geometry.field(0.0), Aim::Real)?;
+    let light = Light { on_axis: gathered(&real, &tracer, geometry.field(0.0))?, real };
     let mut fields = Vec::with_capacity(n);
     for k in 0..n {
         let deg = max * k as f64 / (n - 1) as f64;
-        fields.push(field_point(&base, &tracer, &geometry, deg, on_axis)?);
+        fields.push(field_point(&base, &tracer, &geometry, deg, on_axis, &light)?);
     }
     Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, &geometry) })
 }
@@ -199,6 +210,7 @@ fn field_point(
     geometry: &Geometry,
     deg: f64,
     on_axis: f64,
+    light: &Light,
 ) -> Result<FieldPoint, OpticsError> {
     let field = geometry.field(deg);
     let launcher = base.at_field(field)?;
@@ -234,8 +246,13 @@ fn field_point(
         let hp = chief_height(base, tracer, geometry.field(deg + step)).unwrap_or(h);
         let hm = chief_height(base, tracer, geometry.field(deg - step))?;
         let dh = (hp - hm) / (2.0 * step.to_radians());
+        // the light the bundle gathers against the axis's (the pupil's
+        // growth, its cos theta and vignetting), times the image area per
+        // unit of object (solid angle for infinity, area for a finite object)
+        let ratio = gathered(&light.real, tracer, field)? / light.on_axis;
+        let slant = if geometry.finite.is_some() { theta.cos().powi(-3) } else { 1.0 };
         let f = geometry.scale;
-        let ri = (fraction / on_axis) * theta.cos() * f * f / (dh * h / theta.sin());
+        let ri = ratio * f * f * theta.sin() * slant / (dh * h);
         if ri.is_finite() {
             ri
         } else {
@@ -252,6 +269,59 @@ fn field_point(
         unvignetted_fraction: fraction / on_axis.max(f64::MIN_POSITIVE),
         relative_illumination,
     })
+}
+
+/// What relative illumination compares every field with: a launcher that
+/// aims real rays at the stop, and the light the axial bundle gathers.
+struct Light {
+    real: Launcher,
+    on_axis: f64,
+}
+
+/// The light a field's bundle gathers, up to a constant factor: for an
+/// object at infinity the beam's cross-section across its direction (mm^2:
+/// its area on the entrance-pupil plane times cos theta), for a finite
+/// object point the projected solid angle of its rays, over the rays that
+/// reach the image. The rays cross the entrance-pupil plane on a
+/// [`LIGHT_GRID`] x [`LIGHT_GRID`] grid over the box that rays aimed at 32
+/// points of the stop's rim span there (10% wider): the real stop's image,
+/// so that a pupil that grows off the axis (a retrofocus wide angle's) is
+/// measured as it is. Each passing ray counts its cell's area (for a finite
+/// object, as the solid angle it subtends projected: area cos^4 / D^2, D
+/// the object's distance from that plane). No rim point that aims: no light.
+fn gathered(real: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, OpticsError> {
+    let launcher = real.at_field(field)?;
+    let z_ep = launcher.first_order().entrance_pupil.z;
+    let on_plane = |r: &Ray| (r.origin + r.direction * ((z_ep - r.origin.z) / r.direction.z)).truncate();
+    let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for k in 0..32 {
+        let (s, c) = (std::f64::consts::TAU * k as f64 / 32.0).sin_cos();
+        if let Ok(r) = launcher.ray(c, s) {
+            let e = on_plane(&r);
+            (lo, hi) = (lo.min(e), hi.max(e));
+        }
+    }
+    if !(lo.x < hi.x && lo.y < hi.y && lo.is_finite() && hi.is_finite()) {
+        return Ok(0.0);
+    }
+    let margin = 0.1 * (hi - lo);
+    let (lo, hi) = (lo - margin, hi + margin);
+    let n = LIGHT_GRID;
+    let cell = (hi - lo) / n as f64;
+    let rays: Vec<Ray> = (0..n * n)
+        .filter_map(|k| launcher.ray_through(lo + cell * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5)))
+        .collect();
+    let weight = |r: &Ray| match field {
+        Field::Angle(_) => 1.0,
+        Field::Height { object_distance, .. } => r.direction.z.powi(4) / (z_ep + object_distance).powi(2),
+    };
+    let sum: f64 =
+        rays.iter().zip(trace_rays(tracer, &rays)).filter(|(_, l)| l.reached().is_some()).map(|(r, _)| weight(r)).sum();
+    let cos = match field {
+        Field::Angle(deg) => deg.to_radians().cos(),
+        Field::Height { .. } => 1.0,
+    };
+    Ok(sum * cell.x * cell.y * cos)
 }
 
 /// Fraction of a square pupil grid that reaches the image at `field` (a ray

@@ -189,7 +189,7 @@ impl Launcher {
     }
 
     /// The ray through the entrance-pupil plane at `e` (mm, x and y).
-    fn ray_through(&self, e: DVec2) -> Option<Ray> {
+    pub(crate) fn ray_through(&self, e: DVec2) -> Option<Ray> {
         self.ray_through_at(self.field, e)
     }
 

@@ -19,8 +19,11 @@ offices. Transcriptions used: the Photons to Photos Optical Bench data files
 (photonstophotos.net, cited per lens), the lentil polynomial-optics lens
 database (github.com/zpelgrims/lentil, polynomial-optics/database/
 lenses.json, MIT licence; its housing radii are lentil's and used here as
-clear semi-diameters), ray-optics' cell phone example (github.com/mjhoptics/
-ray-optics, docs/source/examples/Cell_Phone_lens, BSD-3-Clause), the
+clear semi-diameters; and its polynomial-optics/lenses/nikon-zoom.fx, W. J.
+Smith's table of a Nikon 80-200 mm zoom), ray-optics' cell phone example
+(github.com/mjhoptics/ray-optics, docs/source/examples/Cell_Phone_lens,
+BSD-3-Clause) and its models of two Nikon zooms' wide ends (src/rayoptics/
+optical/tests/*.roa: curvatures, gaps, model glasses, asphere terms), the
 crayg renderer's lens files (github.com/Latios96/crayg, resources/
 lensfiles: numbers only, for the rows the Optical Bench excerpt lacked),
 and github.com/seb-hoch/pbrtmtf's transcriptions of W. J. Smith, Modern
@@ -47,6 +50,53 @@ STOP = "stop"
 
 def glass(nd, vd):
     return {"nd": nd, "vd": vd}
+
+
+def zoom_80_200(d5, d10, d13):
+    """The Nikon 80-200 mm f/2.8 zoom of Smith's Modern Lens Design (2nd
+    ed., pp. 527-528, Fig. 20.3) at one zoom position: the three gaps that
+    move (d5, d10, d13 of the table)."""
+    D5, D10, D13 = d5, d10, d13
+    return [
+    (148.570, 5.0, 1.564, 60.7, 32.2),
+    (-479.279, 0.357, None, None, 32.2),
+    (192.855, 6.286, 1.589, 61.2, 31.0),
+    (-134.999, 2.214, 1.805, 25.4, 31.0),
+    (-874.852, D5, None, None, 30.5),
+    (-285.712, 3.893, 1.755, 27.5, 19.0),
+    (-44.764, 1.036, 1.517, 64.2, 19.0),
+    (59.357, 5.357, None, None, 19.0),
+    (-45.071, 1.250, 1.589, 61.2, 16.0),
+    (166.174, D10, None, None, 16.0),
+    (164.284, 5.000, 1.658, 57.3, 15.0),
+    (-33.928, 1.036, 1.795, 28.4, 15.0),
+    (-85.047, D13, None, None, 15.0),
+    (30.464, 5.357, 1.670, 57.5, 16.7),
+    (162.202, 3.071, None, None, 16.3),
+    (-374.997, 1.786, 1.805, 25.4, 15.2),
+    (259.105, 17.857, None, None, 14.5),
+    (STOP, 18.000, None, None, 9.4),
+    (-17.214, 1.714, 1.713, 53.8, 10.5),
+    (-30.230, 0.286, None, None, 11.5),
+    (62.857, 3.071, 1.773, 49.7, 12.6),
+    (-466.815, 28.611, None, None, 12.6),
+]
+
+
+# The zoom's table has the lengths of an 80-200 mm lens times 0.715: its
+# short end's paraxial EFL is 57.206145081111984 mm (the long end's
+# 143.0763893631863, ratio 2.501 as the source's 2.5). Scaled so that the
+# short end is the stated 80 mm; the long end is then 200.085 mm.
+ZOOM_SCALE = 80.0 / 57.206145081111984
+ZOOM_SOURCE = (
+    "Nikon JP S53-131852 (80-200 mm F/2.8, zoom ratio 2.5), as W. J. Smith, Modern Lens Design, 2nd ed., "
+    "pp. 527-528 (Fig. 20.3) gives it, transcribed in the lentil lens database (github.com/zpelgrims/lentil, "
+    "polynomial-optics/lenses/nikon-zoom.fx, MIT; its semi-apertures, glasses by nd and vd, the iris's place, "
+    "and the three moving gaps d5/d10/d13 = 1.86/36.928/16.55 at the short end and 48.678/1.536/5.133 at the long "
+    "end); the table's lengths are those of the 80-200 mm lens times 0.715 (its ends' EFLs 57.206 and 143.076 mm): "
+    "every length scaled by 80/57.206145 so that the short end is the stated 80 mm, the long end then 200.085 mm; "
+    "the stop sized for F 2.8 at each end (the two stops agree within 0.05%, as a constant-aperture zoom's must)"
+)
 
 
 LIBRARY = [
@@ -428,13 +478,42 @@ LIBRARY = [
             (-35.4635, 41.84285, None, None, 8.83),
         ],
     },
+    {
+        "file": "zoom-80-200mm-f2.8-at-80mm-jp53131852.json",
+        "name": "Zoom 80-200 mm f/2.8 at its short end, 80 mm (Nikon JP S53-131852; Smith, Modern Lens Design, Fig. 20.3)",
+        "source": ZOOM_SOURCE + "; this file: the short end",
+        "efl": 80.0,
+        "f_number": 2.8,
+        "stated": "Smith, Modern Lens Design 2nd ed. Fig. 20.3: EFL 80-200, F/2.8 (the short end sets the scale: its EFL is checked by construction)",
+        "stop_given": False,
+        "scale": ZOOM_SCALE,
+        "rows": zoom_80_200(1.86, 36.928, 16.55),
+    },
+    {
+        "file": "zoom-80-200mm-f2.8-at-200mm-jp53131852.json",
+        "name": "Zoom 80-200 mm f/2.8 at its long end, 200 mm (Nikon JP S53-131852; Smith, Modern Lens Design, Fig. 20.3)",
+        "source": ZOOM_SOURCE + "; this file: the long end",
+        "efl": 200.0,
+        "f_number": 2.8,
+        "stated": "Smith, Modern Lens Design 2nd ed. Fig. 20.3: EFL 80-200, F/2.8",
+        "stop_given": False,
+        "scale": ZOOM_SCALE,
+        "rows": zoom_80_200(48.678, 1.536, 5.133),
+    },
 ]
 
 
-def surfaces(rows):
+def surfaces(rows, scale=1.0):
+    """The format's surfaces from the rows, every length times `scale`."""
     out = []
     for row in rows:
         r, t, nd, vd, sd = row[:5]
+        if scale != 1.0:
+            if len(row) > 5:
+                raise SystemExit("scaling an asphere's coefficients is not written")
+            r = r if r in (None, STOP) else round(r * scale, 6)
+            t = round(t * scale, 6)
+            sd = None if sd is None else sd * scale
         s = {}
         if r == STOP:
             s["stop"] = True
@@ -494,7 +573,12 @@ def uncross(spec, path):
 def main():
     os.makedirs(OUT, exist_ok=True)
     for entry in LIBRARY:
-        spec = {"name": entry["name"], "source": entry["source"], "units": "mm", "surfaces": surfaces(entry["rows"])}
+        spec = {
+            "name": entry["name"],
+            "source": entry["source"],
+            "units": "mm",
+            "surfaces": surfaces(entry["rows"], entry.get("scale", 1.0)),
+        }
         with tempfile.TemporaryDirectory() as tmp:
             path = os.path.join(tmp, "lens.json")
             auto = entry.get("automatic_field_deg")

@@ -84,6 +84,18 @@ const LIBRARY: &[(&str, f64, Option<f64>, &str)] = &[
         "US 7,277,232 Ex. 4 at the wide end, via ray-optics' model of it: f = 18.5, F 3.56",
     ),
     (
+        "library/zoom-80-200mm-f2.8-at-80mm-jp53131852.json",
+        80.0,
+        Some(2.8),
+        "Smith, Modern Lens Design 2nd ed. Fig. 20.3: EFL 80-200, F/2.8 (this end sets the file's scale)",
+    ),
+    (
+        "library/zoom-80-200mm-f2.8-at-200mm-jp53131852.json",
+        200.0,
+        Some(2.8),
+        "Smith, Modern Lens Design 2nd ed. Fig. 20.3: EFL 80-200, F/2.8",
+    ),
+    (
         "achromat-doublet-100mm.json",
         100.0,
         None,
@@ -339,4 +351,33 @@ fn the_wide_zoom_traces_as_a_40_digit_trace_does() {
     assert!(ray.origin.x.abs() < 1e-15);
     assert!((ray.direction.y - 0.447_613_305_001_757_36).abs() < 1e-14, "{}", ray.direction.y);
     assert!((ray.direction.z - 0.894_227_224_582_993_6).abs() < 1e-14, "{}", ray.direction.z);
+}
+
+/// The 80-200 mm zoom's two files are one lens at two zoom positions: the
+/// same surfaces, glasses and stop place, only the three moving gaps
+/// differ; its focus holds while it zooms (the paraxial image planes of the
+/// two ends lie within 0.03 mm of each other, 233.04 mm behind the first
+/// vertex) and its aperture is constant (the stops that make f/2.8 at the
+/// two ends agree within 0.05%), as a real zoom's are.
+#[test]
+fn the_zooms_two_ends_are_one_lens() {
+    let (a, b) = (
+        load("library/zoom-80-200mm-f2.8-at-80mm-jp53131852.json"),
+        load("library/zoom-80-200mm-f2.8-at-200mm-jp53131852.json"),
+    );
+    assert_eq!(a.surfaces().len(), b.surfaces().len());
+    let mut moving = vec![];
+    for (i, (x, y)) in a.surfaces().iter().zip(b.surfaces()).enumerate() {
+        assert_eq!(x.radius(), y.radius(), "surface {}", i + 1);
+        assert_eq!(x.ior, y.ior, "surface {}", i + 1);
+        assert_eq!(x.stop, y.stop, "surface {}", i + 1);
+        if x.thickness != y.thickness && i + 1 < a.surfaces().len() {
+            moving.push(i + 1);
+        }
+    }
+    assert_eq!(moving, vec![5, 10, 13], "the moving gaps");
+    let (za, zb) = (a.total_track(), b.total_track());
+    assert!((za - zb).abs() < 0.03, "image planes {za} and {zb} mm");
+    let (sa, sb) = (a.stop_semi_diameter(), b.stop_semi_diameter());
+    assert!((sa - sb).abs() < 5e-4 * sa, "stops {sa} and {sb} mm");
 }

@@ -129,6 +129,23 @@ fn load(file: &str) -> Prescription {
     Prescription::load(&path).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
+/// A library file's prescription as data, to be altered.
+fn spec_of(file: &str) -> lens::PrescriptionSpec {
+    let path = format!("{}/../../lens-data/{file}", env!("CARGO_MANIFEST_DIR"));
+    lens::load_spec(std::path::Path::new(&path)).unwrap()
+}
+
+/// The RMS spot radius (mm) of `p` at field `deg` on its paraxial image
+/// plane: a hexapolar pattern of 12 rings.
+fn rms_spot(p: &Prescription, deg: f64, aim: lens::analysis::Aim) -> f64 {
+    use lens::analysis::fan::ImagePlane;
+    use lens::analysis::pattern::Pattern;
+    use lens::analysis::spot::spot_diagram;
+    spot_diagram(p, lens::analysis::Field::Angle(deg), Pattern::Hexapolar, 12, aim, ImagePlane::Paraxial)
+        .unwrap()
+        .rms_radius
+}
+
 #[test]
 fn every_library_lens_has_its_sources_focal_length_and_f_number() {
     for (file, efl, f_number, source) in LIBRARY {
@@ -232,19 +249,11 @@ fn automatic_clear_apertures_pass_their_bundles_and_no_more() {
 /// spreads over 1.4 mm.
 #[test]
 fn the_cine_primes_asphere_corrects_its_axial_bundle() {
-    use lens::analysis::fan::ImagePlane;
-    use lens::analysis::pattern::Pattern;
-    use lens::analysis::spot::spot_diagram;
-    use lens::analysis::{Aim, Field};
+    use lens::analysis::Aim;
     let file = "library/master-prime-100mm-t1.3-us20070236805.json";
-    let rms = |p: &Prescription| {
-        spot_diagram(p, Field::Angle(0.0), Pattern::Hexapolar, 12, Aim::Paraxial, ImagePlane::Paraxial)
-            .unwrap()
-            .rms_radius
-    };
+    let rms = |p: &Prescription| rms_spot(p, 0.0, Aim::Paraxial);
     let with = rms(&load(file));
-    let path = format!("{}/../../lens-data/{file}", env!("CARGO_MANIFEST_DIR"));
-    let mut spec = lens::load_spec(std::path::Path::new(&path)).unwrap();
+    let mut spec = spec_of(file);
     let aspheres: Vec<_> = spec.surfaces.iter_mut().filter(|s| s.aspheric.is_some()).collect();
     assert_eq!(aspheres.len(), 1, "{file}: one aspheric surface");
     for s in aspheres {
@@ -264,17 +273,11 @@ fn the_cine_primes_asphere_corrects_its_axial_bundle() {
 /// 22.5 mm, exceeds its vertex radius, 18.8 mm.)
 #[test]
 fn the_wide_zooms_aspheres_correct_its_field() {
-    use lens::analysis::fan::ImagePlane;
-    use lens::analysis::pattern::Pattern;
-    use lens::analysis::spot::spot_diagram;
-    use lens::analysis::{Aim, Field};
+    use lens::analysis::Aim;
     let file = "library/nikkor-z-14-30mm-f4-wide-jp2019008031.json";
-    let rms = |p: &Prescription, deg: f64| {
-        spot_diagram(p, Field::Angle(deg), Pattern::Hexapolar, 12, Aim::Real, ImagePlane::Paraxial).unwrap().rms_radius
-    };
+    let rms = |p: &Prescription, deg: f64| rms_spot(p, deg, Aim::Real);
     let p = load(file);
-    let path = format!("{}/../../lens-data/{file}", env!("CARGO_MANIFEST_DIR"));
-    let mut spec = lens::load_spec(std::path::Path::new(&path)).unwrap();
+    let mut spec = spec_of(file);
     let mut n = 0;
     for s in spec.surfaces.iter_mut().filter(|s| s.aspheric.is_some()) {
         s.aspheric = None;
@@ -298,17 +301,11 @@ fn the_wide_zooms_aspheres_correct_its_field() {
 /// curvature 1.5 mm at the corner).
 #[test]
 fn the_kit_zooms_asphere_reads_as_nikon_writes_it() {
-    use lens::analysis::fan::ImagePlane;
-    use lens::analysis::pattern::Pattern;
-    use lens::analysis::spot::spot_diagram;
-    use lens::analysis::{Aim, Field};
+    use lens::analysis::Aim;
     let file = "library/kit-zoom-18.5mm-f3.5-wide-us7277232.json";
-    let rms = |p: &Prescription, deg: f64| {
-        spot_diagram(p, Field::Angle(deg), Pattern::Hexapolar, 12, Aim::Real, ImagePlane::Paraxial).unwrap().rms_radius
-    };
+    let rms = |p: &Prescription, deg: f64| rms_spot(p, deg, Aim::Real);
     let p = load(file);
-    let path = format!("{}/../../lens-data/{file}", env!("CARGO_MANIFEST_DIR"));
-    let mut spec = lens::load_spec(std::path::Path::new(&path)).unwrap();
+    let mut spec = spec_of(file);
     let s = spec.surfaces.iter_mut().find(|s| s.odd_aspheric.is_some()).unwrap();
     let c = s.odd_aspheric.clone().unwrap();
     assert_eq!(c.len(), 10, "{file}: r^1..r^10");

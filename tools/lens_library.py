@@ -41,10 +41,12 @@ import tempfile
 LENS = os.path.join("target", "release", "lens")
 OUT = os.path.join("lens-data", "library")
 
-# A surface: (radius or None for a plane, thickness, nd or None for air, vd,
-# semi-diameter or None), then optionally either a dict of the format's
-# asphere fields ({"aspheric": [...]}) or ray-optics' (ec = 1 + k, odd-power
-# coefficients r^1...). The row marked "stop" is the stop.
+# A surface: (radius or None for a plane, thickness, nd or None for air (or
+# a catalogue glass's name, "SCHOTT:N-LAK9"), vd, semi-diameter or None),
+# then optionally either a dict of the format's fields (asphere terms,
+# {"aspheric": [...]}, or {"stop": True} for a curved stop) or ray-optics'
+# (ec = 1 + k, odd-power coefficients r^1...). The row marked "stop" is a
+# plane stop.
 STOP = "stop"
 
 
@@ -500,6 +502,28 @@ LIBRARY = [
         "scale": ZOOM_SCALE,
         "rows": zoom_80_200(48.678, 1.536, 5.133),
     },
+    {
+        "file": "triplet-50mm-f4-geiser-sasian.json",
+        "automatic_field_deg": 20.0,
+        "name": "Triplet 50 mm f/4, 20 degrees, Schott glasses (Geiser; J. Sasian's OPTI 517 course)",
+        "source": "The triplet J. Sasian uses in his Lens Design course OPTI 517 (University of Arizona), attributed "
+        "to Geiser: EFL 50, f/4 (entrance pupil 12.5 mm), 20 degrees half field, N-LAK9 and N-SF5 from the "
+        "Schott catalogue, the stop on the flint's front surface, as ray-optics' example gives it "
+        "(github.com/mjhoptics/ray-optics, docs/source/examples/SasianTriplet, BSD-3-Clause: efl 50, f/# 4); "
+        "the stop sized for f/4",
+        "efl": 50.0,
+        "f_number": 4.0,
+        "stated": "Sasian's triplet (ray-optics' example): efl 50, f/# 4, entrance pupil 12.5 mm",
+        "stop_given": False,
+        "rows": [
+            (23.713, 4.831, "SCHOTT:N-LAK9", None, None),
+            (7331.288, 5.86, None, None, None),
+            (-24.456, 0.975, "SCHOTT:N-SF5", None, None, {"stop": True}),
+            (21.896, 4.822, None, None, None),
+            (86.759, 3.127, "SCHOTT:N-LAK9", None, None),
+            (-20.4942, 41.2365, None, None, None),
+        ],
+    },
 ]
 
 
@@ -521,7 +545,8 @@ def surfaces(rows, scale=1.0):
             s["radius"] = r
         s["thickness"] = t
         if nd is not None:
-            s["glass"] = glass(nd, vd)
+            # a catalogue glass by name, or a model glass of nd and vd
+            s["glass"] = nd if isinstance(nd, str) else glass(nd, vd)
         if sd is not None:
             s["semi_diameter"] = round(sd, 6)
         if len(row) == 6:

@@ -96,6 +96,12 @@ const LIBRARY: &[(&str, f64, Option<f64>, &str)] = &[
         "Smith, Modern Lens Design 2nd ed. Fig. 20.3: EFL 80-200, F/2.8",
     ),
     (
+        "library/triplet-50mm-f4-geiser-sasian.json",
+        50.0,
+        Some(4.0),
+        "Sasian's OPTI 517 triplet via ray-optics' example: efl 50, f/# 4 (entrance pupil 12.5 mm)",
+    ),
+    (
         "achromat-doublet-100mm.json",
         100.0,
         None,

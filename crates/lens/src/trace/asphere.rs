@@ -10,7 +10,7 @@
 //! sag(r(u))` is `u <- u - F / F'`, `F' = d . N` with the surface normal
 //! `N = (-g x, -g y, 1)`, `g = (dz/dr) / r`.
 
-use super::step::{refract_lanes, snell_root, Lane, StepLanes, StepOut, Verdict};
+use super::step::{refract_lanes, snell_root_unnormalised, Lane, StepLanes, StepOut, Verdict};
 use crate::model::surface::{Asphere, MAX_ASPHERE_POWER};
 use crate::simd::lanes::{Mask, Real};
 
@@ -372,12 +372,13 @@ pub(crate) fn asphere_carry<L: Real, const REFRACT: bool>(
 ) -> StepOut<L> {
     let inside = s.inside(h.x, h.y);
     let ([dx, dy, dz], through) = if REFRACT {
+        // at the normal as it comes, not unit: one square root fewer
         let [nx, ny, nz] = h.n;
-        let inv = L::splat(1.0) / nz.fma(nz, nx.fma(nx, ny * ny)).sqrt();
-        let n = [nx * inv, ny * inv, nz * inv];
-        let cos = d[2].fma(n[2], d[0].fma(n[0], d[1] * n[1]));
-        let (root_k, through) = snell_root::<L, REFRACT>(s, cos * cos);
-        (refract_lanes(d[0], d[1], d[2], n[0], n[1], n[2], s.mu, cos, root_k), through)
+        let q = nz.fma(nz, nx.fma(nx, ny * ny));
+        let g = d[2].fma(nz, d[0].fma(nx, d[1] * ny));
+        let (root, through) = snell_root_unnormalised::<L, REFRACT>(s, g, q);
+        let inv_q = L::splat(1.0) / q;
+        (refract_lanes(d[0], d[1], d[2], nx * inv_q, ny * inv_q, nz * inv_q, s.mu, g, root), through)
     } else {
         (d, L::Mask::all_true())
     };

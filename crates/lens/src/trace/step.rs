@@ -479,6 +479,15 @@ impl<L: Real> StepLanes<L> {
     fn k(&self, cos2: L) -> L {
         snell_k(self.mu2, self.one_minus_mu2, cos2)
     }
+
+    /// Snell's `k` times `q` for a normal `N` that is not unit: `g2 = (D .
+    /// N)^2`, `q = N . N` (the squared cosine is `g2 / q`), so that a
+    /// surface whose normal comes unnormalised refracts without its square
+    /// root (see [`snell_root_unnormalised`]).
+    #[inline(always)]
+    fn k_times(&self, g2: L, q: L) -> L {
+        self.mu2.fma(g2, self.one_minus_mu2 * q)
+    }
 }
 
 /// Each ray's index of each glass: what [`lanes_at`] reads.
@@ -535,6 +544,21 @@ pub(crate) fn snell_root<L: Real, const REFRACT: bool>(s: &StepLanes<L>, cos2: L
         let k = s.k(cos2);
         // a NaN root where k < 0: the ray stops there, its direction unused
         (k.sqrt(), !k.is_neg())
+    } else {
+        (L::splat(0.0), L::Mask::all_true())
+    }
+}
+
+/// [`snell_root`] for a normal `N` that is not unit (`g = D . N`, `q = N .
+/// N`): `sqrt(k q)`, with which `refract_lanes(D, N / q, mu, g, sqrt(k q))`
+/// is the refraction at the unit normal `N / sqrt(q)` (the added term
+/// `(sqrt(k) - mu cos) n` equals `(sqrt(k q) - mu g) N / q`): one square
+/// root and one division where normalising first takes two and one.
+#[inline(always)]
+pub(crate) fn snell_root_unnormalised<L: Real, const REFRACT: bool>(s: &StepLanes<L>, g: L, q: L) -> (L, L::Mask) {
+    if REFRACT {
+        let kq = s.k_times(g * g, q);
+        (kq.sqrt(), !kq.is_neg())
     } else {
         (L::splat(0.0), L::Mask::all_true())
     }

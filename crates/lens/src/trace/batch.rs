@@ -783,10 +783,18 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
             break;
         }
     }
-    for (j, at) in st[..n].iter().enumerate() {
+    // the hits first, then refraction: two loops whose chains of dependent
+    // operations are short enough to overlap across vectors (the square
+    // root and the division wait on the normal), as the sphere's two loops
+    let mut hits = [None; VECTORS];
+    for (j, (at, hit)) in st[..n].iter().zip(hits.iter_mut()).enumerate() {
+        let (_, d, _) = load_rays(src, j);
+        *hit = Some(newton_hit(a, d, &at.get()));
+    }
+    for (j, hit) in hits[..n].iter().enumerate() {
         let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
         let (_, d, opl) = load_rays(src, j);
-        let h = newton_hit(a, d, &at.get());
+        let h = hit.expect("every vector has its hit");
         store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &h, d, opl), bits);
     }
 }

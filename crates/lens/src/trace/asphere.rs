@@ -206,6 +206,28 @@ pub(crate) struct Newton<L> {
 /// conic, the root of its linear part, `-C / 2B`.
 #[inline(always)]
 pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> Newton<L> {
+    newton_start_from(a, p, d, &conic_root(a, p, d))
+}
+
+/// The conic's quadratic `A t^2 + 2 B t + C = 0` for the ray `p + t d`,
+/// with the square root of its discriminant: the part of [`newton_start`]
+/// up to its square root (the batch computes it for a chunk's vectors
+/// first, so that their square roots and divisions overlap).
+#[derive(Clone, Copy)]
+pub(crate) struct ConicRoot<L> {
+    /// `A` and `C` of the quadratic.
+    pub qa: L,
+    pub qc: L,
+    /// `B + s sqrt(B^2 - A C)` (s the sign of B), the rationalised root's
+    /// denominator.
+    pub far: L,
+    /// `B^2 - A C`.
+    pub disc: L,
+}
+
+/// [`ConicRoot`] for the ray `p + t d`.
+#[inline(always)]
+pub(crate) fn conic_root<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
     let one = L::splat(1.0);
     let k = a.k1 - one;
     let kc = k * a.c;
@@ -216,7 +238,14 @@ pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -
     let qc = a.c.fma(p[2].fma(p[2], p[0].fma(p[0], p[1] * p[1])), (kc * p[2]).fma(p[2], -(p[2] + p[2])));
     let disc = qb.fma(qb, -(qa * qc));
     let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
-    let far = qb + root.or(qb.sign_bit());
+    ConicRoot { qa, qc, far: qb + root.or(qb.sign_bit()), disc }
+}
+
+/// [`newton_start`] from the conic's root `q` ([`conic_root`]).
+#[inline(always)]
+pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3], q: &ConicRoot<L>) -> Newton<L> {
+    let one = L::splat(1.0);
+    let ConicRoot { qa, qc, far, disc } = *q;
     let near = -qc / far;
     // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root (the
     // other root is wanted only where the near one is off it: rare, so

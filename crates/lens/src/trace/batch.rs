@@ -29,7 +29,8 @@ use crate::error::OpticsError;
 use crate::simd::avx2::F64x4;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
-    asphere_carry, newton_hit, newton_running, newton_start, newton_step, AsphereLanes, Newton, MAX_NEWTON_STEPS,
+    asphere_carry, conic_root, newton_hit, newton_running, newton_start_from, newton_step, AsphereLanes, Newton,
+    MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -763,9 +764,17 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
     bits: &mut Bits,
 ) {
     let mut st = [Newton4::default(); VECTORS];
-    for (j, to) in st[..n].iter_mut().enumerate() {
+    // the conics' roots first, then the starts: as the sphere's two loops,
+    // so that the square roots and the divisions overlap across vectors
+    let mut roots = [None; VECTORS];
+    for (j, root) in roots[..n].iter_mut().enumerate() {
         let (p, d, _) = load_rays(src, j);
-        to.put(&newton_start(a, [p[0], p[1], p[2] - sl.shift], d));
+        *root = Some(conic_root(a, [p[0], p[1], p[2] - sl.shift], d));
+    }
+    for (j, (to, root)) in st[..n].iter_mut().zip(&roots).enumerate() {
+        let (p, d, _) = load_rays(src, j);
+        let root = root.expect("every vector has its root");
+        to.put(&newton_start_from(a, [p[0], p[1], p[2] - sl.shift], d, &root));
     }
     for _ in 0..MAX_NEWTON_STEPS {
         let mut running = false;

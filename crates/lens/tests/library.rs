@@ -102,6 +102,25 @@ const LIBRARY: &[(&str, f64, Option<f64>, &str)] = &[
         "Sasian's OPTI 517 triplet via ray-optics' example: efl 50, f/# 4 (entrance pupil 12.5 mm)",
     ),
     (
+        "library/nikkor-28mm-f2.8s-us5917663.json",
+        28.61,
+        Some(2.89),
+        "US 5,917,663 Ex. 2 via the Photons to Photos Optical Bench file: focal length 28.61, F-number 2.89",
+    ),
+    (
+        "library/fisheye-16mm-f2.8-us5434713.json",
+        15.6686,
+        Some(2.8),
+        "US 5,434,713 Ex. 2 via the Photons to Photos Optical Bench file: focal length 15.6686, F-number 2.8",
+    ),
+    (
+        "library/nikkor-s-50mm-f1.4-us3560079.json",
+        50.0,
+        None,
+        "US 3,560,079 Ex. 1 via the Photons to Photos Optical Bench file: focal length 50 (F 1.4 nominal: its stop \
+         gives f/1.45, its clear apertures at most f/1.41)",
+    ),
+    (
         "achromat-doublet-100mm.json",
         100.0,
         None,

@@ -26,8 +26,10 @@ BSD-3-Clause) and its models of two Nikon zooms' wide ends (src/rayoptics/
 optical/tests/*.roa: curvatures, gaps, model glasses, asphere terms), the
 crayg renderer's lens files (github.com/Latios96/crayg, resources/
 lensfiles: numbers only, for the rows the Optical Bench excerpt lacked),
-and github.com/seb-hoch/pbrtmtf's transcriptions of W. J. Smith, Modern
-Lens Design (1992) pp. 304-305 (numbers only).
+github.com/seb-hoch/pbrtmtf's transcriptions of W. J. Smith, Modern
+Lens Design (1992) pp. 304-305 (numbers only), and an open-source C++
+optical-preset table ("opsys") of four Optical Bench files (numbers only:
+vertex positions, clear radii, nd and vd).
 Only numbers are taken, no code.
 """
 

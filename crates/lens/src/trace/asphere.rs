@@ -289,6 +289,29 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
 /// then needs one step from the conic's root instead of two.
 #[inline(always)]
 pub(crate) fn newton_step<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newton<L>) {
+    let ev = newton_eval(a, d, st);
+    newton_finish(a, st, &ev);
+}
+
+/// What one step of [`newton_step`] evaluates before its division: `G`,
+/// `G'` and (third-order steps) `G''` along the ray, with `Q` and `m` at the
+/// point and whether it lies outside the conic's domain. The batch
+/// evaluates a chunk's vectors first and divides after, so that the
+/// divisions overlap.
+#[derive(Clone, Copy)]
+pub(crate) struct NewtonEval<L> {
+    pub g: L,
+    pub gp: L,
+    pub gpp: L,
+    pub q: L,
+    pub m: L,
+    /// `1 - (1 + k) c^2 r^2` there: negative outside the conic's domain.
+    pub domain: L,
+}
+
+/// The part of [`newton_step`] before its division.
+#[inline(always)]
+pub(crate) fn newton_eval<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> NewtonEval<L> {
     let one = L::splat(1.0);
     let two = L::splat(2.0);
     let k1c = a.k1 * a.c;
@@ -304,14 +327,27 @@ pub(crate) fn newton_step<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newt
     let rd = x.fma(d[0], y * d[1]);
     let wp = (-q).fma(rd, d[2]);
     let gp = two * a.c.fma(rd, -(m * wp));
-    let tol = L::splat(NEWTON_TOLERANCE_MM);
-    let (du, done_now) = if a.third_order {
+    let gpp = if a.third_order {
         // G'' = 2 c rho^2 - 2 m w'' + 2 k1c w'^2, w'' = -(Q rho^2 + V rd^2)
-        let inv = one / gp;
-        let t = g * inv;
         let rho2 = d[0].fma(d[0], d[1] * d[1]);
         let wpp = -q.fma(rho2, a.v.at(s) * rd * rd);
-        let gpp = two * (a.c.fma(rho2, -(m * wpp)) + k1c * wp * wp);
+        two * (a.c.fma(rho2, -(m * wpp)) + k1c * wp * wp)
+    } else {
+        L::splat(0.0)
+    };
+    NewtonEval { g, gp, gpp, q, m, domain: (-a.k1c2).fma(s, one) }
+}
+
+/// The part of [`newton_step`] from its division on: the step, the lanes'
+/// verdicts, the state updated.
+#[inline(always)]
+pub(crate) fn newton_finish<L: Real>(a: &AsphereLanes<L>, st: &mut Newton<L>, ev: &NewtonEval<L>) {
+    let one = L::splat(1.0);
+    let NewtonEval { g, gp, gpp, q, m, domain } = *ev;
+    let tol = L::splat(NEWTON_TOLERANCE_MM);
+    let (du, done_now) = if a.third_order {
+        let inv = one / gp;
+        let t = g * inv;
         let h = L::splat(0.5) * gpp * inv;
         let du = t * h.fma(t, one);
         let at = t.abs();
@@ -321,7 +357,7 @@ pub(crate) fn newton_step<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newt
         let du = g / gp;
         (du, du.abs().le(tol))
     };
-    let bad = (-a.k1c2).fma(s, one).is_neg() | !du.is_finite();
+    let bad = domain.is_neg() | !du.is_finite();
     let active = !(st.converged.is_neg() | st.missed.is_neg());
     let now = active & !bad & done_now;
     let step = active & !bad;

@@ -29,8 +29,8 @@ use crate::error::OpticsError;
 use crate::simd::avx2::F64x4;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
-    asphere_carry, conic_root, newton_hit, newton_running, newton_start_from, newton_step, AsphereLanes, Newton,
-    MAX_NEWTON_STEPS,
+    asphere_carry, conic_root, newton_eval, newton_finish, newton_hit, newton_running, newton_start_from, AsphereLanes,
+    Newton, MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -776,13 +776,19 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
         let root = root.expect("every vector has its root");
         to.put(&newton_start_from(a, [p[0], p[1], p[2] - sl.shift], d, &root));
     }
+    // each pass evaluates the vectors still iterating, then divides: two
+    // loops, so that the divisions overlap across vectors
+    let mut evals = [None; VECTORS];
     for _ in 0..MAX_NEWTON_STEPS {
         let mut running = false;
-        for (j, at) in st[..n].iter_mut().enumerate() {
-            let mut nw = at.get();
-            if newton_running(&nw) {
-                let (_, d, _) = load_rays(src, j);
-                newton_step(a, d, &mut nw);
+        for (j, (at, ev)) in st[..n].iter().zip(evals.iter_mut()).enumerate() {
+            let nw = at.get();
+            *ev = newton_running(&nw).then(|| newton_eval(a, load_rays(src, j).1, &nw));
+        }
+        for (at, ev) in st[..n].iter_mut().zip(&evals) {
+            if let Some(ev) = ev {
+                let mut nw = at.get();
+                newton_finish(a, &mut nw, ev);
                 at.put_iter(&nw);
                 // another pass only if this vector still iterates
                 running |= newton_running(&nw);

@@ -137,6 +137,13 @@ impl<L: Real> AsphereLanes<L> {
         }
     }
 
+    /// Whether Newton's iteration has anything to do: not for a pure conic,
+    /// whose root is the intersection.
+    #[inline(always)]
+    pub(crate) fn iterates(&self) -> bool {
+        !self.conic_only
+    }
+
     /// The polynomial part at `s` = r^2: its sag `P` and `Q = (dP/dr) /
     /// r`. On the axis (r = 0, where x = y = 0 and Q's value does not
     /// matter) an r^1 term's `a_1 / r` is kept finite.

@@ -779,7 +779,8 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
     // each pass evaluates the vectors still iterating, then divides: two
     // loops, so that the divisions overlap across vectors
     let mut evals = [None; VECTORS];
-    for _ in 0..MAX_NEWTON_STEPS {
+    let passes = if a.iterates() { MAX_NEWTON_STEPS } else { 0 };
+    for _ in 0..passes {
         let mut running = false;
         for (j, (at, ev)) in st[..n].iter().zip(evals.iter_mut()).enumerate() {
             let nw = at.get();

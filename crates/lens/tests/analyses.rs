@@ -233,25 +233,32 @@ fn field_curves_follow_a_finite_design_object() {
 
 /// A thin singlet stopped down at the lens: the beam's cross-section is
 /// the stop's area times cos theta and the image height f tan theta, so the
-/// relative illumination is the cos^4 law (within 0.5% to 25 degrees).
+/// relative illumination is the cos^4 law (within 0.5% to 25 degrees); and
+/// the same for a plane object 600 mm away (m about -0.5), where the stop's
+/// projected solid angle from each object point falls as cos^4 theta and the
+/// image is similar to the object.
 #[test]
 fn a_thin_lens_stopped_at_itself_follows_cos4() {
-    let p = Prescription::from_json_str(
-        r#"{"surfaces": [
-          {"thickness": 0.0, "semi_diameter": 2, "stop": true},
-          {"radius": 200, "thickness": 0.2, "ior": 1.5, "semi_diameter": 4},
-          {"radius": -200, "thickness": 200, "semi_diameter": 4}]}"#,
-        "<thin lens>",
-    )
-    .unwrap();
-    let curves = field_curves(&p, Some(25.0), 6, Aim::Real).unwrap();
-    for pt in &curves.fields {
-        let want = pt.field_deg.to_radians().cos().powi(4);
-        assert!(
-            (pt.relative_illumination - want).abs() < 0.005 * want,
-            "{}: {} vs {want}",
-            pt.field_deg,
-            pt.relative_illumination
-        );
+    for object in ["", r#""object_distance_mm": 600,"#] {
+        let p = Prescription::from_json_str(
+            &format!(
+                r#"{{{object} "surfaces": [
+                  {{"thickness": 0.0, "semi_diameter": 2, "stop": true}},
+                  {{"radius": 200, "thickness": 0.2, "ior": 1.5, "semi_diameter": 4}},
+                  {{"radius": -200, "thickness": 200, "semi_diameter": 4}}]}}"#
+            ),
+            "<thin lens>",
+        )
+        .unwrap();
+        let curves = field_curves(&p, Some(25.0), 6, Aim::Real).unwrap();
+        for pt in &curves.fields {
+            let want = pt.field_deg.to_radians().cos().powi(4);
+            assert!(
+                (pt.relative_illumination - want).abs() < 0.005 * want,
+                "{object}: {}: {} vs {want}",
+                pt.field_deg,
+                pt.relative_illumination
+            );
+        }
     }
 }

@@ -130,6 +130,9 @@ fn pupil_bounds_lose_no_light() {
     // the aspheric cine prime wide open: its rear group clips the corner bundles
     const PRIME: (&str, [f64; 2], f64, f64) =
         ("../library/master-prime-100mm-t1.3-us20070236805.json", [36.0, 24.0], 30.0, 2.0);
+    // the aspheric 35 mm wide open, its asphere on the rear group
+    const WIDE: (&str, [f64; 2], f64, f64) =
+        ("../library/canon-35mm-f2-is-aspheric-us20150205081.json", [36.0, 24.0], 30.0, 3.6);
     for ((lens_file, sensor, half, focus), fno, shape, blades) in [
         (DG, 2.0, r#"{"shape": "circle"}"#, 0),
         (DG, 8.0, r#"{"shape": "circle"}"#, 0),
@@ -138,6 +141,7 @@ fn pupil_bounds_lose_no_light() {
         (PHONE, 3.5, r#"{"shape": "circle"}"#, 0),
         (PHONE, 4.0, r#"{"shape": "polygon", "blades": 6}"#, 6),
         (PRIME, 1.24, r#"{"shape": "circle"}"#, 0),
+        (WIDE, 2.05, r#"{"shape": "polygon", "blades": 6}"#, 6),
     ] {
         let cam = format!(
             r#"{{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "{lens_file}",

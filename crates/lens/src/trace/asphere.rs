@@ -82,6 +82,11 @@ pub(crate) struct AsphereLanes<L> {
     k1: L,
     /// `(1 + k) c^2`.
     k1c2: L,
+    /// `1 + k` of the conic whose root starts the iteration: the surface's
+    /// own, or with the r^4 term folded in (`+ 8 a_4 / c^3`, the conic's own
+    /// r^4 coefficient being `(1 + k) c^3 / 8`) where that conic spans the
+    /// clear aperture, so that the start is nearer the surface.
+    start_k1: L,
     /// `B(s) = sum_m a_2m s^(m-1)`, `C(s) = sum_m a_(2m+1) s^m`.
     b: Chain<L>,
     cc: Chain<L>,
@@ -108,8 +113,9 @@ pub(crate) struct AsphereLanes<L> {
 }
 
 impl<L: Real> AsphereLanes<L> {
-    /// The kernel's numbers for `asphere` on a base of curvature `c`.
-    pub(crate) fn of(c: f64, asphere: &Asphere) -> Self {
+    /// The kernel's numbers for `asphere` on a base of curvature `c`, its
+    /// clear radius squared `sd2` (mm^2, infinity for none).
+    pub(crate) fn of(c: f64, asphere: &Asphere, sd2: f64) -> Self {
         let a = |j: usize| if j <= MAX_ASPHERE_POWER { asphere.coefficients[j - 1] } else { 0.0 };
         const HALF: usize = MAX_ASPHERE_POWER / 2;
         // index m - 1 (b, d) or m (cc, e from m = 1 at index 0): no heap
@@ -120,10 +126,27 @@ impl<L: Real> AsphereLanes<L> {
         // term j = 2i + 4 at s^i
         let v: [f64; HALF] = std::array::from_fn(|i| ((2 * i + 4) * (2 * i + 2)) as f64 * a(2 * i + 4));
         let k1 = 1.0 + asphere.conic;
+        // the r^4 term folded into the starting conic where it is a conic's
+        // (no r^2 term) and that conic is defined with room over the whole
+        // clear aperture
+        let folded = k1 + 8.0 * a(4) / (c * c * c);
+        let start_k1 = if asphere.degree() > 0
+            && a(2) == 0.0
+            && a(4) != 0.0
+            && c != 0.0
+            && sd2.is_finite()
+            && folded.is_finite()
+            && 1.0 - folded * c * c * sd2 >= 0.1
+        {
+            folded
+        } else {
+            k1
+        };
         AsphereLanes {
             c: L::splat(c),
             k1: L::splat(k1),
             k1c2: L::splat(k1 * c * c),
+            start_k1: L::splat(start_k1),
             b: Chain::of(&b),
             cc: Chain::of(&cc),
             d: Chain::of(&d),
@@ -236,7 +259,7 @@ pub(crate) struct ConicRoot<L> {
 #[inline(always)]
 pub(crate) fn conic_root<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
     let one = L::splat(1.0);
-    let k = a.k1 - one;
+    let k = a.start_k1 - one;
     let kc = k * a.c;
     let qa = a.c * k.fma(d[2] * d[2], one);
     // c (p . d) + k c pz dz - dz
@@ -257,7 +280,7 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
     // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root (the
     // other root is wanted only where the near one is off it: rare, so
     // computed only then; a lane's choice does not depend on the others)
-    let k1c = a.k1 * a.c;
+    let k1c = a.start_k1 * a.c;
     let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], p[2]), one).le(L::splat(0.0));
     let near_ok = on_sheet(near);
     let u = if (!near_ok).any() {
@@ -473,12 +496,12 @@ mod tests {
     /// c r^2 / 2.
     #[test]
     fn hits_lie_on_the_surface() {
-        let sphere = AsphereLanes::<f64>::of(1.0 / 40.0, &Asphere::new(0.0, &[], &[]).unwrap());
-        let para = AsphereLanes::<f64>::of(1.0 / 40.0, &Asphere::new(-1.0, &[], &[]).unwrap());
+        let sphere = AsphereLanes::<f64>::of(1.0 / 40.0, &Asphere::new(0.0, &[], &[]).unwrap(), f64::INFINITY);
+        let para = AsphereLanes::<f64>::of(1.0 / 40.0, &Asphere::new(-1.0, &[], &[]).unwrap(), f64::INFINITY);
         let poly = Asphere::new(-0.7, &[1e-4, -3e-7, 2e-10], &[]).unwrap();
-        let polyl = AsphereLanes::<f64>::of(1.0 / 40.0, &poly);
+        let polyl = AsphereLanes::<f64>::of(1.0 / 40.0, &poly, f64::INFINITY);
         let odd = Asphere::new(0.0, &[], &[1e-3, 0.0, -2e-6]).unwrap();
-        let oddl = AsphereLanes::<f64>::of(-1.0 / 60.0, &odd);
+        let oddl = AsphereLanes::<f64>::of(-1.0 / 60.0, &odd, f64::INFINITY);
         for (i, h0) in [0.0, 1.0, 5.0, 12.0, 20.0].iter().enumerate() {
             let p = [*h0, 0.3 * i as f64, -25.0];
             let d = unit([0.05, -0.02, 1.0]);
@@ -513,7 +536,7 @@ mod tests {
         ];
         let mut worst = 0.0f64;
         for (c, asph) in &cases {
-            let lanes = AsphereLanes::<f64>::of(*c, asph);
+            let lanes = AsphereLanes::<f64>::of(*c, asph, 9.0);
             for _ in 0..4000 {
                 let p = [6.0 * (next() - 0.5), 6.0 * (next() - 0.5), -3.0 * next() - 0.1];
                 let d = unit([0.4 * (next() - 0.5), 0.4 * (next() - 0.5), 1.0]);
@@ -547,7 +570,7 @@ mod tests {
     /// just in front of the vertex: the start takes the vertex's sheet.
     #[test]
     fn the_vertex_sheet_of_a_strong_hyperboloid_is_met() {
-        let h = AsphereLanes::<f64>::of(1.0 / 5.694, &Asphere::new(-222.1, &[], &[]).unwrap());
+        let h = AsphereLanes::<f64>::of(1.0 / 5.694, &Asphere::new(-222.1, &[], &[]).unwrap(), f64::INFINITY);
         for y in [0.0, 0.5, 1.5] {
             let hit = meet_asphere(&h, [0.0, y, -0.1], [0.0, 0.0, 1.0]);
             assert!(hit.ok && hit.converged, "y {y}");
@@ -561,11 +584,11 @@ mod tests {
     /// not converged, not as a hit.
     #[test]
     fn misses_and_non_convergence_are_typed() {
-        let ell = AsphereLanes::<f64>::of(1.0 / 10.0, &Asphere::new(3.0, &[], &[]).unwrap());
+        let ell = AsphereLanes::<f64>::of(1.0 / 10.0, &Asphere::new(3.0, &[], &[]).unwrap(), f64::INFINITY);
         let h = meet_asphere(&ell, [8.0, 0.0, -5.0], [0.0, 0.0, 1.0]);
         assert!(!h.ok);
         let wild = Asphere::new(0.0, &[0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1e3], &[]).unwrap();
-        let w = AsphereLanes::<f64>::of(0.0, &wild);
+        let w = AsphereLanes::<f64>::of(0.0, &wild, f64::INFINITY);
         let h = meet_asphere(&w, [1.2, 0.0, -5.0], unit([0.9, 0.0, 0.2]));
         assert!(!(h.ok && h.converged), "t {}", h.t);
     }

@@ -332,7 +332,7 @@ impl Chunk {
     #[inline(always)]
     fn for_tracer(t: &Tracer) -> Box<Self> {
         let mut c = Chunk::new();
-        c.aspheres = t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::of(s.c, &a))).collect();
+        c.aspheres = t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::of(s.c, &a, s.sd2))).collect();
         c
     }
 

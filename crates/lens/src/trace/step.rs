@@ -654,7 +654,7 @@ pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -
 #[inline(always)]
 pub(crate) fn step_dispatch<L: Real>(s: &Step, k: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
     if let (ASPHERE, Some(a)) = (s.shape, &s.asphere) {
-        let a = AsphereLanes::of(s.c, a);
+        let a = AsphereLanes::of(s.c, a, s.sd2);
         return if s.refract { asphere_step::<L, true>(k, &a, l) } else { asphere_step::<L, false>(k, &a, l) };
     }
     match (s.refract, s.shape) {

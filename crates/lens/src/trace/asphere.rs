@@ -127,10 +127,11 @@ impl<L: Real> AsphereLanes<L> {
         let v: [f64; HALF] = std::array::from_fn(|i| ((2 * i + 4) * (2 * i + 2)) as f64 * a(2 * i + 4));
         let k1 = 1.0 + asphere.conic;
         // the r^4 term folded into the starting conic where it is a conic's
-        // (no r^2 term) and that conic is defined with room over the whole
-        // clear aperture
+        // (an even asphere without an r^2 term) and that conic is defined
+        // with room over the whole clear aperture
         let folded = k1 + 8.0 * a(4) / (c * c * c);
         let start_k1 = if asphere.degree() > 0
+            && asphere.is_even()
             && a(2) == 0.0
             && a(4) != 0.0
             && c != 0.0

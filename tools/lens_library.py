@@ -29,7 +29,9 @@ lensfiles: numbers only, for the rows the Optical Bench excerpt lacked),
 github.com/seb-hoch/pbrtmtf's transcriptions of W. J. Smith, Modern
 Lens Design (1992) pp. 304-305 (numbers only), and an open-source C++
 optical-preset table ("opsys") of four Optical Bench files (numbers only:
-vertex positions, clear radii, nd and vd).
+vertex positions, clear radii, nd and vd), and the Lens Visualizer project's
+data files (lensvisualizer.pages.dev; numbers only: radii, gaps, nd, vd,
+asphere terms, and its estimated clear radii, which each source names).
 Only numbers are taken, no code.
 """
 

@@ -111,7 +111,8 @@ LIBRARY = [
         "name": "50 mm f/1.4 double Gauss (US 3,552,829 Example 1)",
         "source": "US 3,552,829 (1971) Example 1, as transcribed in the Photons to Photos Optical Bench "
         "(US3552829_Example01P): f = 50, F/1.4, angle of view 46.7 degrees, Bf 36.5; clear diameters and the stop's "
-        "(24.1 mm) as the file gives them: the stop gives f/1.43 (at f/1.4 the marginal ray would need surfaces 4 and 5 "
+        "(24.1 mm) as the file gives them: the stop gives f/1.43 (at f/1.4 the marginal ray would need surfaces 4 "
+        "and 5 "
         "to cross)",
         "efl": 50.0,
         "f_number": 1.4,
@@ -164,7 +165,8 @@ LIBRARY = [
         "name": "Meyer Primoplan f/1.9, f = 100 (the 58 mm f/1.9's design)",
         "source": "Meyer-Optik Goerlitz Primoplan (1936), patent table normalised to f = 100 as transcribed in the "
         "lentil lens database (entry 10, 'Primoplan 58mm f1.9', patent number as lentil gives it: DE1387593); "
-        "clear semi-diameters made to pass the full stop on the axis and at the field given in the library's notes (tools/lens_library.py: lens convert --clear-apertures)",
+        "clear semi-diameters made to pass the full stop on the axis and at the field given in the library's notes "
+        "(tools/lens_library.py: lens convert --clear-apertures)",
         "efl": 100.0,
         "f_number": 1.9,
         "stated": "lentil entry 10: focal-length-mm-patent 100; notes 'Primoplan 58mm f1.9'",
@@ -321,7 +323,8 @@ LIBRARY = [
         "name": "Cine prime 100 mm T1.3 with an asphere (US 2007/0236805 Example 4, ~ARRI/Zeiss Master Prime 100 mm)",
         "source": "US 2007/0236805 (2007, Carl Zeiss) Example 4, as transcribed in the Photons to Photos Optical Bench "
         "(US2007-0236805_Example04: Focal Length 99.80, F-Number 1.24, angle of view 17.81 degrees, Bf 40.123; the "
-        "focus gaps d9 = 14.959, d13 = 16.343, d22 = 1.00 for infinity); its clear diameters halved; the surfaces after the stop "
+        "focus gaps d9 = 14.959, d13 = 16.343, d22 = 1.00 for infinity); its clear diameters halved; the surfaces "
+        "after the stop "
         "and the even-asphere coefficients A4..A14 of surface 11 (conic 0) as the crayg renderer's transcription of "
         "the same file gives them (github.com/Latios96/crayg, resources/lensfiles/ArriZeissMasterPrime.fx, which "
         "numbers them a2..a12); the stop sized for F 1.24",
@@ -406,9 +409,11 @@ LIBRARY = [
     },
     {
         "file": "nikkor-z-14-30mm-f4-wide-jp2019008031.json",
-        "name": "Wide-angle zoom at 14.42 mm f/4, four aspheres (JP 2019-008031 Example 1 at its wide end, ~Nikon Nikkor Z 14-30 mm f/4 S)",
+        "name": "Wide-angle zoom at 14.42 mm f/4, four aspheres (JP 2019-008031 Example 1 at its wide end, ~Nikon "
+            "Nikkor Z 14-30 mm f/4 S)",
         "source": "JP 2019-008031 (Nikon) Example 1 at the wide-angle end (f = 14.42, F 4.0, half field 57.68 degrees; "
-        "the zoom gaps d8 = 28.616, d14 = 7.483 and the back focus 21.36 of that end), as ray-optics' model of it gives "
+        "the zoom gaps d8 = 28.616, d14 = 7.483 and the back focus 21.36 of that end), as ray-optics' model of it "
+        "gives "
         "it (github.com/mjhoptics/ray-optics, src/rayoptics/optical/tests/Nikon Nikkor Z 14-30mm f-4 S.roa, "
         "BSD-3-Clause: radii from its curvatures, gaps, nd and vd, clear semi-diameters, and the even-asphere "
         "coefficients of surfaces 2, 4, 17 and 26 with their conics); the stop sized for F 4.0",
@@ -452,7 +457,8 @@ LIBRARY = [
     },
     {
         "file": "kit-zoom-18.5mm-f3.5-wide-us7277232.json",
-        "name": "Kit zoom at 18.5 mm f/3.56, hybrid asphere (US 7,277,232 Example 4 at its wide end, ~Nikon AF-S DX 18-55 mm f/3.5-5.6G ED II)",
+        "name": "Kit zoom at 18.5 mm f/3.56, hybrid asphere (US 7,277,232 Example 4 at its wide end, ~Nikon AF-S "
+            "DX 18-55 mm f/3.5-5.6G ED II)",
         "source": "US 7,277,232 (Nikon) Example 4 at the wide-angle end (f = 18.5, F 3.56, image height 14.2, the zoom "
         "gap d5 = 44.0936 and the back focus 41.84285 of that end), as ray-optics' model of it gives it "
         "(github.com/mjhoptics/ray-optics, src/rayoptics/optical/tests/US007277232_Example04P.roa, BSD-3-Clause: "
@@ -486,18 +492,21 @@ LIBRARY = [
     },
     {
         "file": "zoom-80-200mm-f2.8-at-80mm-jp53131852.json",
-        "name": "Zoom 80-200 mm f/2.8 at its short end, 80 mm (Nikon JP S53-131852; Smith, Modern Lens Design, Fig. 20.3)",
+        "name": "Zoom 80-200 mm f/2.8 at its short end, 80 mm (Nikon JP S53-131852; Smith, Modern Lens Design, "
+            "Fig. 20.3)",
         "source": ZOOM_SOURCE + "; this file: the short end",
         "efl": 80.0,
         "f_number": 2.8,
-        "stated": "Smith, Modern Lens Design 2nd ed. Fig. 20.3: EFL 80-200, F/2.8 (the short end sets the scale: its EFL is checked by construction)",
+        "stated": "Smith, Modern Lens Design 2nd ed. Fig. 20.3: EFL 80-200, F/2.8 (the short end sets the scale: "
+            "its EFL is checked by construction)",
         "stop_given": False,
         "scale": ZOOM_SCALE,
         "rows": zoom_80_200(1.86, 36.928, 16.55),
     },
     {
         "file": "zoom-80-200mm-f2.8-at-200mm-jp53131852.json",
-        "name": "Zoom 80-200 mm f/2.8 at its long end, 200 mm (Nikon JP S53-131852; Smith, Modern Lens Design, Fig. 20.3)",
+        "name": "Zoom 80-200 mm f/2.8 at its long end, 200 mm (Nikon JP S53-131852; Smith, Modern Lens Design, "
+            "Fig. 20.3)",
         "source": ZOOM_SOURCE + "; this file: the long end",
         "efl": 200.0,
         "f_number": 2.8,
@@ -531,8 +540,11 @@ LIBRARY = [
     {
         "file": "nikkor-28mm-f2.8s-us5917663.json",
         "name": "28 mm f/2.8 retrofocus wide angle (US 5,917,663 Example 2, ~Nikon AI Nikkor 28 mm f/2.8S)",
-        "source": "US 5,917,663 (Nikon) Example 2, as the Photons to Photos Optical Bench gives it (US5917663_Example02: "
-        "focal length 28.61, F-number 2.89; its clear diameters halved), numbers as transcribed (numbers only) in an open-source optical-preset table (the C++ 'opsys' presets: vertex positions, clear radii, nd and vd); the stop sized for F 2.89",
+        "source": "US 5,917,663 (Nikon) Example 2, as the Photons to Photos Optical Bench gives it "
+            "(US5917663_Example02: "
+        "focal length 28.61, F-number 2.89; its clear diameters halved), numbers as transcribed (numbers only) in "
+        "an open-source optical-preset table (the C++ 'opsys' presets: vertex positions, clear radii, nd and vd); "
+        "the stop sized for F 2.89",
         "efl": 28.61,
         "f_number": 2.89,
         "stated": "Optical Bench file: focal length 28.61, F-number 2.89",
@@ -560,8 +572,11 @@ LIBRARY = [
     {
         "file": "fisheye-16mm-f2.8-us5434713.json",
         "name": "16 mm f/2.8 full-frame fisheye (US 5,434,713 Example 2, ~Nikon AI AF Fisheye-Nikkor 16 mm f/2.8D)",
-        "source": "US 5,434,713 (Nikon) Example 2, as the Photons to Photos Optical Bench gives it (US5434713_Example02: "
-        "focal length 15.6686, F-number 2.8; its clear diameters halved; the last plate a filter), numbers as transcribed (numbers only) in an open-source optical-preset table (the C++ 'opsys' presets: vertex positions, clear radii, nd and vd); "
+        "source": "US 5,434,713 (Nikon) Example 2, as the Photons to Photos Optical Bench gives it "
+            "(US5434713_Example02: "
+        "focal length 15.6686, F-number 2.8; its clear diameters halved; the last plate a filter), numbers as "
+        "transcribed (numbers only) in an open-source optical-preset table (the C++ 'opsys' presets: vertex "
+        "positions, clear radii, nd and vd); "
         "the stop sized for F 2.8",
         "efl": 15.6686,
         "f_number": 2.8,
@@ -589,8 +604,11 @@ LIBRARY = [
     {
         "file": "nikkor-s-50mm-f1.4-us3560079.json",
         "name": "50 mm f/1.4 double Gauss (US 3,560,079 Example 1, ~Nikon Nikkor-S Auto 50 mm f/1.4)",
-        "source": "US 3,560,079 (Nikon) Example 1, as the Photons to Photos Optical Bench gives it (US3560079_Example01: "
-        "focal length 50, F-number 1.4; its clear diameters and stop diameter, 23.379 mm, halved), numbers as transcribed (numbers only) in an open-source optical-preset table (the C++ 'opsys' presets: vertex positions, clear radii, nd and vd); its "
+        "source": "US 3,560,079 (Nikon) Example 1, as the Photons to Photos Optical Bench gives it "
+            "(US3560079_Example01: "
+        "focal length 50, F-number 1.4; its clear diameters and stop diameter, 23.379 mm, halved), numbers as "
+        "transcribed (numbers only) in an open-source optical-preset table (the C++ 'opsys' presets: vertex "
+        "positions, clear radii, nd and vd); its "
         "stop gives f/1.45 and its clear apertures pass at most f/1.41, so f/1.4 is the nominal figure: tested on "
         "the EFL only",
         "efl": 50.0,
@@ -617,7 +635,9 @@ LIBRARY = [
         "file": "nikkor-85mm-f1.8-us4812027.json",
         "name": "85 mm f/1.8 portrait lens (US 4,812,027 Example 1, ~Nikon AI AF Nikkor 85 mm f/1.8S)",
         "source": "US 4,812,027 (Nikon, M. Yanagisawa) Example 1: f = 85, F/1.8, 2 omega = 28 degrees, six elements, "
-        "at the patent's scale, transcribed (numbers only) in the Lens Visualizer project's data file for this lens (lensvisualizer.pages.dev), with its clear radii (that file's estimates: the patent gives none); the patent tabulates no stop: its place, 9.4 mm into the 27.633 mm air space "
+        "at the patent's scale, transcribed (numbers only) in the Lens Visualizer project's data file for this "
+        "lens (lensvisualizer.pages.dev), with its clear radii (that file's estimates: the patent gives none); the "
+        "patent tabulates no stop: its place, 9.4 mm into the 27.633 mm air space "
         "after surface 6, is that file's reading of the patent's figure; the stop sized for F 1.8",
         "efl": 85.0,
         "f_number": 1.8,
@@ -642,8 +662,11 @@ LIBRARY = [
     {
         "file": "canon-35mm-f2-is-aspheric-us20150205081.json",
         "name": "35 mm f/2 with an asphere (US 2015/0205081 Example 1, ~Canon EF 35 mm f/2 IS USM)",
-        "source": "US 2015/0205081 (Canon, A. Mizuma) Example 1: f = 34.49, F 2.05, 2 omega = 64.2 degrees, ten elements, "
-        "the stop the patent's surface 12, one even asphere (surface 18: K = 0, A4, A6, A8), transcribed (numbers only) in the Lens Visualizer project's data file for this lens (lensvisualizer.pages.dev), with its clear radii (that file's estimates: the patent gives none); the stop sized "
+        "source": "US 2015/0205081 (Canon, A. Mizuma) Example 1: f = 34.49, F 2.05, 2 omega = 64.2 degrees, ten "
+            "elements, "
+        "the stop the patent's surface 12, one even asphere (surface 18: K = 0, A4, A6, A8), transcribed (numbers "
+        "only) in the Lens Visualizer project's data file for this lens (lensvisualizer.pages.dev), with its clear "
+        "radii (that file's estimates: the patent gives none); the stop sized "
         "for F 2.05",
         "efl": 34.49,
         "f_number": 2.05,
@@ -673,11 +696,15 @@ LIBRARY = [
     },
     {
         "file": "micro-nikkor-105mm-f2.8-macro-us7218457.json",
-        "name": "Macro 105 mm f/2.8, floating focus to 1:1, at infinity (US 7,218,457 Example 3, ~Nikon AF-S VR Micro-Nikkor 105 mm f/2.8G)",
-        "source": "US 7,218,457 (Nikon, Sensui) Example 3 at infinity focus: f = 104.00, F 2.88, fourteen elements, the "
+        "name": "Macro 105 mm f/2.8, floating focus to 1:1, at infinity (US 7,218,457 Example 3, ~Nikon AF-S VR "
+            "Micro-Nikkor 105 mm f/2.8G)",
+        "source": "US 7,218,457 (Nikon, Sensui) Example 3 at infinity focus: f = 104.00, F 2.88, fourteen "
+            "elements, the "
         "floating-focus gaps D8 = 3.0, D13 = 21.449, D14 = 14.484, D20 = 2.0 and the back focus 53.12017 of infinity "
         "(at 1:1 the file gives 21.289, 3.16, 0.0, 16.484, 52.48113), surface 15 a dummy plane of the patent's, "
-        "transcribed (numbers only) in the Lens Visualizer project's data file for this lens (lensvisualizer.pages.dev), with its clear radii (that file's estimates: the patent gives none); the stop sized for F 2.88",
+        "transcribed (numbers only) in the Lens Visualizer project's data file for this lens "
+        "(lensvisualizer.pages.dev), with its clear radii (that file's estimates: the patent gives none); the stop "
+        "sized for F 2.88",
         "efl": 104.0,
         "f_number": 2.88,
         "stated": "US 7,218,457 Ex. 3 (via Lens Visualizer): f = 104.00, F 2.88",
@@ -715,9 +742,12 @@ LIBRARY = [
     {
         "file": "sony-planar-50mm-f1.4-aspheric-us20140071331.json",
         "name": "50 mm f/1.4 with two aspheres (US 2014/0071331 Example 4, ~Sony Planar T* 50 mm f/1.4 ZA SSM)",
-        "source": "US 2014/0071331 (Sony, Katou) Example 4: f = 51.5, F/1.45, 2 omega = 46.8 degrees, eight elements, the "
+        "source": "US 2014/0071331 (Sony, Katou) Example 4: f = 51.5, F/1.45, 2 omega = 46.8 degrees, eight "
+            "elements, the "
         "stop the patent's surface 8, even aspheres on surfaces 5 (K = 0) and 14 (K = -1.6554), terms A4..A10, "
-        "transcribed (numbers only) in the Lens Visualizer project's data file for this lens (lensvisualizer.pages.dev), with its clear radii (that file's estimates: the patent gives none); the stop sized for F 1.45",
+        "transcribed (numbers only) in the Lens Visualizer project's data file for this lens "
+        "(lensvisualizer.pages.dev), with its clear radii (that file's estimates: the patent gives none); the stop "
+        "sized for F 1.45",
         "efl": 51.5,
         "f_number": 1.45,
         "stated": "US 2014/0071331 Ex. 4 (via Lens Visualizer): f = 51.5, F/1.45",

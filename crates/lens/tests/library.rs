@@ -184,6 +184,29 @@ fn spec_of(file: &str) -> lens::PrescriptionSpec {
     lens::load_spec(std::path::Path::new(&path)).unwrap()
 }
 
+/// Checks that `file`'s `count` aspheres correct it: with their polynomial
+/// terms its RMS spots (real aiming, paraxial image plane) at `fields`
+/// (degrees) stay under `with_max` mm, and without them (the conic bases
+/// alone) each is at least ten times larger.
+fn aspheres_correct(file: &str, count: usize, fields: &[f64], with_max: f64) {
+    use lens::analysis::Aim;
+    let p = load(file);
+    let mut spec = spec_of(file);
+    let mut n = 0;
+    for s in spec.surfaces.iter_mut().filter(|s| s.aspheric.is_some()) {
+        s.aspheric = None;
+        n += 1;
+    }
+    assert_eq!(n, count, "{file}: aspheric surfaces");
+    let bases = Prescription::from_spec(&spec).unwrap();
+    for &deg in fields {
+        let (with, without) = (rms_spot(&p, deg, Aim::Real), rms_spot(&bases, deg, Aim::Real));
+        println!("{file}: {deg} deg: RMS spot {with:e} mm, {without:e} mm without the aspheric terms");
+        assert!(with < with_max, "{file}: {deg} deg: RMS {with} mm");
+        assert!(without > 10.0 * with, "{file}: {deg} deg: {without} mm without the terms");
+    }
+}
+
 /// The RMS spot radius (mm) of `p` at field `deg` on its paraxial image
 /// plane: a hexapolar pattern of 12 rings.
 fn rms_spot(p: &Prescription, deg: f64, aim: lens::analysis::Aim) -> f64 {
@@ -322,24 +345,7 @@ fn the_cine_primes_asphere_corrects_its_axial_bundle() {
 /// 22.5 mm, exceeds its vertex radius, 18.8 mm.)
 #[test]
 fn the_wide_zooms_aspheres_correct_its_field() {
-    use lens::analysis::Aim;
-    let file = "library/nikkor-z-14-30mm-f4-wide-jp2019008031.json";
-    let rms = |p: &Prescription, deg: f64| rms_spot(p, deg, Aim::Real);
-    let p = load(file);
-    let mut spec = spec_of(file);
-    let mut n = 0;
-    for s in spec.surfaces.iter_mut().filter(|s| s.aspheric.is_some()) {
-        s.aspheric = None;
-        n += 1;
-    }
-    assert_eq!(n, 4, "{file}: four aspheric surfaces");
-    let bases = Prescription::from_spec(&spec).unwrap();
-    for deg in [0.0, 20.0, 40.0] {
-        let (with, without) = (rms(&p, deg), rms(&bases, deg));
-        println!("{file}: {deg} deg: RMS spot {with:e} mm, {without:e} mm with the conic bases alone");
-        assert!(with < 0.012, "{file}: {deg} deg: RMS {with} mm");
-        assert!(without > 10.0 * with, "{file}: {deg} deg: {without} mm without the terms");
-    }
+    aspheres_correct("library/nikkor-z-14-30mm-f4-wide-jp2019008031.json", 4, &[0.0, 20.0, 40.0], 0.012);
 }
 
 /// The kit zoom's hybrid asphere has five coefficients, C3, C4, C6, C8 and
@@ -434,21 +440,5 @@ fn the_zooms_two_ends_are_one_lens() {
 /// the sphere alone 0.76-0.91 mm.
 #[test]
 fn the_aspheric_35s_asphere_corrects_it() {
-    use lens::analysis::Aim;
-    let file = "library/canon-35mm-f2-is-aspheric-us20150205081.json";
-    let p = load(file);
-    let mut spec = spec_of(file);
-    let mut n = 0;
-    for s in spec.surfaces.iter_mut().filter(|s| s.aspheric.is_some()) {
-        s.aspheric = None;
-        n += 1;
-    }
-    assert_eq!(n, 1, "{file}: one aspheric surface");
-    let sphere = Prescription::from_spec(&spec).unwrap();
-    for deg in [0.0, 10.0, 20.0, 25.0] {
-        let (with, without) = (rms_spot(&p, deg, Aim::Real), rms_spot(&sphere, deg, Aim::Real));
-        println!("{file}: {deg} deg: RMS spot {with:e} mm, {without:e} mm with the sphere alone");
-        assert!(with < 0.05, "{file}: {deg} deg: RMS {with} mm");
-        assert!(without > 10.0 * with, "{file}: {deg} deg: {without} mm without the asphere");
-    }
+    aspheres_correct("library/canon-35mm-f2-is-aspheric-us20150205081.json", 1, &[0.0, 10.0, 20.0, 25.0], 0.05);
 }

@@ -262,3 +262,25 @@ fn a_thin_lens_stopped_at_itself_follows_cos4() {
         }
     }
 }
+
+/// Relative illumination stays a fraction in [0, 1] and falls to the
+/// largest field, where the chief ray just survives (there the derivative
+/// of the chief-ray height is taken backward, the field beyond being lost):
+/// no negative values and no jump up at the last field, for every library
+/// lens.
+#[test]
+fn relative_illumination_is_a_falling_fraction_to_the_last_field() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../lens-data/library");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let p = Prescription::load(&path).unwrap();
+        let curves = field_curves(&p, None, 5, Aim::Paraxial).unwrap();
+        let ri: Vec<f64> = curves.fields.iter().map(|f| f.relative_illumination).collect();
+        assert!(ri.iter().all(|r| (0.0..=1.05).contains(r)), "{}: {ri:?}", path.display());
+        let (last, before) = (ri[ri.len() - 1], ri[ri.len() - 2]);
+        assert!(last <= before + 0.02, "{}: {ri:?}", path.display());
+        n += 1;
+    }
+    assert!(n >= 20);
+}

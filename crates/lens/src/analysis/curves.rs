@@ -241,19 +241,23 @@ fn field_point(
     let relative_illumination = if deg == 0.0 {
         1.0
     } else {
-        // dh/dtheta by a central difference of the real chief-ray height
+        // dh/dtheta by a central difference of the chief-ray height; a
+        // backward one where the field just beyond is lost (the last field)
         let step = (0.01f64).min(deg / 2.0);
-        let hp = chief_height(base, tracer, geometry.field(deg + step)).unwrap_or(h);
         let hm = chief_height(base, tracer, geometry.field(deg - step))?;
-        let dh = (hp - hm) / (2.0 * step.to_radians());
+        let dh = match chief_height(base, tracer, geometry.field(deg + step)) {
+            Ok(hp) => (hp - hm) / (2.0 * step.to_radians()),
+            Err(_) => (h - hm) / step.to_radians(),
+        };
         // the light the bundle gathers against the axis's (the pupil's
         // growth, its cos theta and vignetting), times the image area per
         // unit of object (solid angle for infinity, area for a finite object)
         let ratio = gathered(&light.real, tracer, field)? / light.on_axis;
         let slant = if geometry.finite.is_some() { theta.cos().powi(-3) } else { 1.0 };
         let f = geometry.scale;
-        let ri = ratio * f * f * theta.sin() * slant / (dh * h);
-        if ri.is_finite() {
+        let ri = ratio * f * f * theta.sin() * slant / (dh * h).abs();
+        // no light (or none measurable): 0, not -0 or NaN
+        if ri.is_finite() && ri > 0.0 {
             ri
         } else {
             0.0

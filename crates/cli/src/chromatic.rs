@@ -4,6 +4,7 @@
 use crate::args::{AimArgs, FieldArgs, JsonArgs, LensArgs, PlotArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::chromatic::chromatic;
+use lens::analysis::curves::largest_field_deg;
 use lens::paraxial::FirstOrder;
 use std::process::ExitCode;
 
@@ -21,7 +22,9 @@ pub struct Args {
     #[command(flatten)]
     field: FieldArgs,
     /// Largest field of the lateral-colour curve, degrees (default: the
-    /// half diagonal of a 36 x 24 mm frame at the focal length, at most 60).
+    /// design's largest field where the file names one, else the half
+    /// diagonal of a 36 x 24 mm frame at the focal length, at most 60, and
+    /// 2% inside the field where the chief ray stops reaching the image).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     max_field_deg: Option<f64>,
     #[command(flatten)]
@@ -37,7 +40,17 @@ pub fn run(a: Args) -> CmdResult {
     let p = a.lens.load()?;
     let max_field = match a.max_field_deg {
         Some(m) => m,
-        None => (HALF_DIAGONAL_MM / FirstOrder::of(&p)?.efl.abs()).atan().to_degrees().min(60.0),
+        // the design's own largest field where it names one, else the
+        // frame's corner, but no further than the chief ray reaches
+        None => match p.fields_deg().iter().copied().fold(0.0, f64::max) {
+            design if design > 0.0 => design,
+            _ => {
+                let corner = (HALF_DIAGONAL_MM / FirstOrder::of(&p)?.efl.abs()).atan().to_degrees().min(60.0);
+                // 2% inside the primary's last field: there the other
+                // wavelengths' rays, launched as the primary's, still pass
+                corner.min(0.98 * largest_field_deg(&p, a.aim.aim())?)
+            }
+        },
     };
     if !(max_field.is_finite() && max_field > 0.0 && max_field < 90.0) {
         return Err(

@@ -174,6 +174,18 @@ impl Geometry {
     }
 }
 
+/// The largest field angle (degrees, at most 89) whose chief ray and the
+/// four rays next to it reach `p`'s paraxial image plane, for its design
+/// object: the field curves' default range, and a safe default for other
+/// analyses over field.
+pub fn largest_field_deg(p: &Prescription, aim: Aim) -> Result<f64, OpticsError> {
+    let first = FirstOrder::of(p)?;
+    let geometry = Geometry::of(p, &first)?;
+    let tracer = Tracer::forward_to_film(p, geometry.film);
+    let base = Launcher::with_first(p, &first, geometry.field(0.0), aim)?;
+    Ok(largest_field(&base, &tracer, &geometry))
+}
+
 /// Distortion at one field, percent: 100 (h - h_p) / h_p with h the real
 /// chief-ray height on the paraxial image plane and h_p the paraxial image
 /// height (EFL tan(theta) for an angle, m x height for a finite object).

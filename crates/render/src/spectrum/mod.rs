@@ -5,6 +5,7 @@
 
 pub mod cie;
 pub mod colour;
+mod hero_density;
 pub mod light;
 pub mod sampled;
 mod tables;

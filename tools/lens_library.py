@@ -384,6 +384,33 @@ LIBRARY = [
         ],
     },
     {
+        "file": "tronnier-double-gauss-50mm-f2-us2673491.json",
+        "name": "Double Gauss 50 mm f/2, 22 degrees (Tronnier, US 2,673,491), the patent's glasses",
+        "source": "US 2,673,491 (A. W. Tronnier, Voigtlander, 1954), the table at f = 1.0, 1:2, back focus "
+        "p0' = 0.71436: radii and thicknesses times 50 (as pbrt-v4's dgauss.50mm.dat prints them), the stop where "
+        "the patent splits the middle air space (b1 = 5.466, b2 = 4.741 at f = 50; pbrt's file has 5.705 and "
+        "4.5), and the patent's indices and Abbe numbers (1.67125/47.1, 1.69842/30.1, 1.60266/38.4, "
+        "1.65953/57.0, 1.71740/48.1; pbrt's file rounds them, 1.65953 to 1.658, which moves its focal length to "
+        "50.36); clear semi-diameters pbrt's housing radii (the patent gives none); the stop sized for 1:2",
+        "efl": 50.0,
+        "f_number": 2.0,
+        "stated": "US 2,673,491: f = 1.0 (times 50), 1:2, p0' = 0.71436 f",
+        "stop_given": False,
+        "rows": [
+            (29.475, 3.76, 1.67125, 47.1, 12.6),
+            (84.83, 0.12, None, None, 12.6),
+            (19.275, 4.025, 1.67125, 47.1, 11.5),
+            (40.77, 3.275, 1.69842, 30.1, 11.5),
+            (12.75, 5.466, None, None, 9.0),
+            (STOP, 4.741, None, None, 8.55),
+            (-14.495, 1.18, 1.60266, 38.4, 8.5),
+            (40.77, 6.065, 1.65953, 57.0, 10.0),
+            (-20.385, 0.19, None, None, 10.0),
+            (437.065, 3.22, 1.71740, 48.1, 10.0),
+            (-39.73, 35.718, None, None, 10.0),
+        ],
+    },
+    {
         "file": "double-gauss-100mm-f1.25-us2771006.json",
         "name": "Double Gauss f = 100 f/1.25, 12 degrees (Werfel, US 2,771,006; Smith p. 304)",
         "source": "W. J. Smith, Modern Lens Design (1992) p. 304: F/1.25 12 deg, US 2,771,006 (Werfel); EFL 100.1, "

@@ -31,7 +31,7 @@ rm -r "$tmp"
 # a layout of every lens in the library (docs/lenses.md)
 for f in lens-data/library/*.json; do
   b=$(basename "$f" .json)
-  case $b in phone*) fields=0,15,30 ;; petzval*) fields=0,5,10 ;; master-prime*) fields=0,5,8.9 ;; double-gauss-100mm*) fields=0,6,12 ;; nikkor-z-14*) fields=0,40,57.68 ;; kit-zoom*) fields=0,25,37.5 ;; nikkor-28mm*) fields=0,20,37 ;; fisheye-16mm*) fields=0,40,80 ;; nikkor-85mm*) fields=0,7,14 ;; canon-35mm*) fields=0,16,32 ;; micro-nikkor-105mm*) fields=0,6,11.7 ;; sony-planar-50mm*) fields=0,12,23.4 ;; zoom-80-200mm*at-80mm*) fields=0,8,15 ;; zoom-80-200mm*at-200mm*) fields=0,3,6 ;; *) fields=0,10,20 ;; esac
+  case $b in phone*) fields=0,15,30 ;; petzval*) fields=0,5,10 ;; master-prime*) fields=0,5,8.9 ;; double-gauss-100mm*) fields=0,6,12 ;; nikkor-z-14*) fields=0,40,57.68 ;; kit-zoom*) fields=0,25,37.5 ;; nikkor-28mm*) fields=0,20,37 ;; fisheye-16mm*) fields=0,40,80 ;; nikkor-85mm*) fields=0,7,14 ;; canon-35mm*) fields=0,16,32 ;; micro-nikkor-105mm*) fields=0,6,11.7 ;; sony-planar-50mm*) fields=0,12,23.4 ;; tronnier*) fields=0,11,22 ;; zoom-80-200mm*at-80mm*) fields=0,8,15 ;; zoom-80-200mm*at-200mm*) fields=0,3,6 ;; *) fields=0,10,20 ;; esac
   $lens layout "$f" --fields $fields -o "$out/lenses/$b.png"
 done
 for b in achromat-doublet-100mm:0,1,2 cooke-triplet:0,10,20 double-gauss-50mm:0,10,20 fisheye-10mm:0,40,75 \

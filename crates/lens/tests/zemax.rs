@@ -221,7 +221,10 @@ fn a_real_zemax_file_reads_and_its_unknown_glass_is_refused() {
     assert_eq!((s4.conic, s4.aspheric.clone()), (Some(0.02), Some(vec![0.0, 1.10721e-5, 1.837e-7])));
     assert_eq!(spec.wavelengths_nm.as_ref().map(|w| w.len()), Some(3));
     assert_eq!(spec.primary_wavelength_nm, Some(587.5618));
-    assert_eq!(spec.fields_deg, None, "fields given as image heights are not kept");
+    // its fields are real image heights (FTYP 3: 0, 8 and 13.6 mm): angles
+    // whose real chief rays land there (checked below, once built)
+    let fields = spec.fields_deg.clone().unwrap();
+    assert_eq!(fields.len(), 3);
     assert_eq!(spec.surfaces[2].glass, Some(lens::model::GlassSpec::Name("OHARA:L-TIM28".into())));
     let p = Prescription::from_spec(&spec).unwrap();
     let f = FirstOrder::of(&p).unwrap();
@@ -229,6 +232,19 @@ fn a_real_zemax_file_reads_and_its_unknown_glass_is_refused() {
     // optiland 0.6.3 on the same text: efl 30.8056929 (its glass data differ
     // from the shipped catalogues' in the 7th digit)
     assert!(close(f.efl, 30.8056929, 1e-6), "efl {}", f.efl);
+    for (deg, h) in fields.iter().zip([0.0, 8.0, 13.6]) {
+        let real = chief_on_film(&p, lens::analysis::Field::Angle(*deg));
+        assert!((real - h).abs() < 1e-9, "{deg} degrees: real chief ray at {real} mm, the file's {h}");
+    }
+}
+
+/// The height (mm, radial) at which the real chief ray of `field` meets
+/// `p`'s film (its last thickness from the last vertex).
+fn chief_on_film(p: &Prescription, field: lens::analysis::Field) -> f64 {
+    let launcher = lens::analysis::Launcher::new(p, field, lens::analysis::Aim::Real).unwrap();
+    let tracer = lens::Tracer::forward_to_film(p, p.film_distance());
+    let bundle = lens::analysis::bundle::Bundle::trace(&launcher, &tracer, vec![(0.0, 0.0)]).unwrap();
+    bundle.landings[0].chief(field).unwrap().origin.y.abs()
 }
 
 /// Zemax's MISC names (fused silica, crystals) resolve through GCAT MISC.
@@ -239,4 +255,44 @@ fn zemax_misc_materials_resolve() {
     assert_eq!(spec.surfaces[0].glass, Some(lens::model::GlassSpec::Name("MISC:F_SILICA".into())));
     let p = Prescription::from_spec(&spec).unwrap();
     assert!(close(p.glasses()[0].index(587.5618).unwrap(), 1.458464, 1e-6));
+}
+
+/// Fields given as heights become the angles of `fields_deg`: an object
+/// height (FTYP 1) the angle of its chief ray to the entrance pupil, a
+/// paraxial image height (FTYP 2) the angle whose paraxial image is there,
+/// a real image height (FTYP 3) the angle whose real chief ray lands there;
+/// heights computed here from the file's own angle fields (0, 7 and 10
+/// degrees, object at 5 m) come back as those angles. Theodolite angles and
+/// object heights at infinity are refused by name.
+#[test]
+fn fields_given_as_heights_become_angles() {
+    use lens::analysis::Field;
+    use lens::paraxial::{imaging, ObjectDistance};
+    let spec = read(ASPHERIC_ZMX, Catalogs::shipped()).unwrap();
+    let p = Prescription::from_spec(&spec).unwrap();
+    let first = FirstOrder::of(&p).unwrap();
+    let d = 5000.0;
+    let to_pupil = d + first.entrance_pupil.z;
+    let m = imaging(&p, &first, ObjectDistance::Finite(d)).unwrap().magnification;
+    let angles = [0.0f64, 7.0, 10.0];
+    let object: Vec<f64> = angles.iter().map(|a| to_pupil * a.to_radians().tan()).collect();
+    let paraxial: Vec<f64> = object.iter().map(|h| (m * h).abs()).collect();
+    let real: Vec<f64> =
+        object.iter().map(|h| chief_on_film(&p, Field::Height { object_distance: d, height: -h })).collect();
+    assert!((real[2] / paraxial[2] - 1.0).abs() > 1e-6, "the real and paraxial heights differ");
+    for (kind, heights, tol) in [(1, &object, 1e-12), (2, &paraxial, 1e-12), (3, &real, 1e-9)] {
+        let yfln = format!("YFLN {} {} {} 0 0 0 0 0 0 0 0 0", heights[0], heights[1], heights[2]);
+        let file = ASPHERIC_ZMX
+            .replace("FTYP 0 0 3", &format!("FTYP {kind} 0 3"))
+            .replace("YFLN 0 7 10 0 0 0 0 0 0 0 0 0", &yfln);
+        let got = read(&file, Catalogs::shipped()).unwrap().fields_deg.unwrap();
+        for (g, a) in got.iter().zip(angles) {
+            assert!((g - a).abs() <= tol * a.max(1.0), "FTYP {kind}: {got:?} against {angles:?}");
+        }
+    }
+    let e = read(&ASPHERIC_ZMX.replace("FTYP 0 0 3", "FTYP 4 0 3"), Catalogs::shipped()).unwrap_err();
+    assert!(e.message.contains("theodolite") && e.line == 7, "{e:?}");
+    let at_infinity = ASPHERIC_ZMX.replace("FTYP 0 0 3", "FTYP 1 0 3").replace("DISZ 5000", "DISZ INFINITY");
+    let e = read(&at_infinity, Catalogs::shipped()).unwrap_err();
+    assert!(e.message.contains("object height") && e.message.contains("at infinity"), "{e:?}");
 }

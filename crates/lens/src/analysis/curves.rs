@@ -186,6 +186,77 @@ pub fn largest_field_deg(p: &Prescription, aim: Aim) -> Result<f64, OpticsError>
     Ok(largest_field(&base, &tracer, &geometry))
 }
 
+/// The field angle (degrees, the sign of `height_mm`) whose image is
+/// `height_mm` from the axis, for `p`'s design object: paraxially, S
+/// tan(theta) = h on the paraxial image plane (S the EFL for an object at
+/// infinity, |m| times the object's distance from the entrance pupil for a
+/// finite one), or where the real chief ray meets `p`'s own image plane
+/// (its film, the last thickness: Zemax's image surface) (`real`, bisection
+/// to 1e-12 degrees up to the largest field whose chief ray and its
+/// neighbours reach that plane). How a Zemax field given as a paraxial or a
+/// real image height (`FTYP 2`, `3`) becomes an angle. Errors where no
+/// field the chief ray reaches has that height.
+pub fn field_deg_for_image_height(p: &Prescription, height_mm: f64, real: bool) -> Result<f64, OpticsError> {
+    if !height_mm.is_finite() {
+        return Err(OpticsError::BadInput {
+            name: "image height",
+            value: height_mm,
+            expected: "a finite height in mm",
+        });
+    }
+    let first = FirstOrder::of(p)?;
+    let geometry = Geometry::of(p, &first)?;
+    let h = height_mm.abs();
+    if h == 0.0 {
+        return Ok(0.0);
+    }
+    let deg = if real {
+        let tracer = Tracer::forward_to_film(p, p.film_distance());
+        let base = Launcher::with_first(p, &first, geometry.field(0.0), Aim::Real)?;
+        let top = largest_field(&base, &tracer, &geometry);
+        let at = |deg: f64| chief_height(&base, &tracer, geometry.field(deg)).map(f64::abs);
+        if at(top)? < h {
+            return Err(OpticsError::BadInput {
+                name: "real image height",
+                value: height_mm,
+                expected: "a height the chief ray reaches (the largest field it reaches images nearer the axis)",
+            });
+        }
+        let (mut lo, mut hi) = (0.0, top);
+        while hi - lo > 1e-12 {
+            let mid = 0.5 * (lo + hi);
+            if at(mid)? < h {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        0.5 * (lo + hi)
+    } else {
+        (h / geometry.scale).atan().to_degrees()
+    };
+    Ok(deg.copysign(height_mm))
+}
+
+/// The field angle (degrees, the sign of `height_mm`) of the object point
+/// `height_mm` from the axis in `p`'s design object plane: the angle of its
+/// chief ray to the paraxial entrance pupil, as a Zemax object-height field
+/// (`FTYP 1`) means. Errors for an object at infinity (which has no heights).
+pub fn field_deg_for_object_height(p: &Prescription, height_mm: f64) -> Result<f64, OpticsError> {
+    let first = FirstOrder::of(p)?;
+    match Geometry::of(p, &first)?.finite {
+        Some((d, z_ep)) if height_mm.is_finite() => Ok((height_mm / (d + z_ep)).atan().to_degrees()),
+        Some(_) => {
+            Err(OpticsError::BadInput { name: "object height", value: height_mm, expected: "a finite height in mm" })
+        }
+        None => Err(OpticsError::BadInput {
+            name: "object height",
+            value: height_mm,
+            expected: "an object at a finite distance (an object at infinity has field angles, not heights)",
+        }),
+    }
+}
+
 /// Distortion at one field, percent: 100 (h - h_p) / h_p with h the real
 /// chief-ray height on the paraxial image plane and h_p the paraxial image
 /// height (EFL tan(theta) for an angle, m x height for a finite object).

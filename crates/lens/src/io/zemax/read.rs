@@ -50,6 +50,8 @@ struct File {
     scale: f64,
     aperture: Option<Aperture>,
     field_type: Option<i64>,
+    /// The line of `FTYP`.
+    field_line: usize,
     field_count: Option<usize>,
     wave_count: Option<usize>,
     xfields: Vec<f64>,
@@ -68,7 +70,63 @@ pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxEr
     let file = parse(text)?;
     let mut spec = to_spec(&file, catalogs)?;
     set_aperture(&file, &mut spec, catalogs)?;
+    set_fields(&file, &mut spec, catalogs)?;
     Ok(spec)
+}
+
+/// The file's fields as radial values (the declared count of `XFLN`/`YFLN`
+/// pairs; a field off the y axis by its distance from the axis), in the
+/// file's units for heights.
+fn radial_fields(f: &File) -> Vec<f64> {
+    let count = f.field_count.unwrap_or(f.xfields.len().max(f.yfields.len()));
+    (0..count.min(f.xfields.len().max(f.yfields.len())))
+        .map(|k| {
+            let x = f.xfields.get(k).copied().unwrap_or(0.0);
+            let y = f.yfields.get(k).copied().unwrap_or(0.0);
+            if x == 0.0 {
+                y
+            } else {
+                x.hypot(y)
+            }
+        })
+        .collect()
+}
+
+/// Fields given as heights (`FTYP 1` object height, `2` paraxial image
+/// height, `3` real image height, at the primary wavelength as Zemax takes
+/// them) become the angles of `fields_deg`: the chief ray's angle to the
+/// entrance pupil for an object height, the angle whose paraxial or real
+/// chief ray reaches that image height (`analysis::curves`). Other field
+/// types are refused by name.
+fn set_fields(f: &File, spec: &mut PrescriptionSpec, catalogs: &Catalogs) -> Result<(), ZemaxError> {
+    let kind = f.field_type.unwrap_or(0);
+    let heights = radial_fields(f);
+    if kind == 0 || heights.is_empty() {
+        return Ok(());
+    }
+    let what = match kind {
+        1 => "object height",
+        2 => "paraxial image height",
+        3 => "real image height",
+        4 => return Err(err(f.field_line, "FTYP 4: theodolite angle fields are not supported; give angles (FTYP 0)")),
+        k => {
+            return Err(err(f.field_line, format!("FTYP {k}: this field type is not supported; give angles (FTYP 0)")))
+        }
+    };
+    let p = build(spec, catalogs)?;
+    let mut deg = Vec::with_capacity(heights.len());
+    for (k, h) in heights.iter().enumerate() {
+        let h = h * f.scale;
+        let angle = match kind {
+            1 => crate::analysis::curves::field_deg_for_object_height(&p, h),
+            _ => crate::analysis::curves::field_deg_for_image_height(&p, h, kind == 3),
+        };
+        deg.push(angle.map_err(|e| {
+            err(f.field_line, format!("field {} ({what} {h} mm) cannot be taken to an angle: {e}", k + 1))
+        })?);
+    }
+    spec.fields_deg = Some(deg);
+    Ok(())
 }
 
 fn err(line: usize, message: impl Into<String>) -> ZemaxError {
@@ -148,6 +206,7 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
             "FTYP" => {
                 let int = |k: usize| tok.get(k).and_then(|t| t.parse::<i64>().ok());
                 f.field_type = int(1);
+                f.field_line = line;
                 f.field_count = int(3).and_then(|n| usize::try_from(n).ok());
                 f.wave_count = int(4).and_then(|n| usize::try_from(n).ok());
             }
@@ -345,15 +404,9 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
     let to_nm = |um: f64| (um * 1e12).round() / 1e9;
     let nm: Vec<f64> = waves.iter().map(|w| to_nm(w.1)).collect();
     let primary = f.primary.and_then(|p| waves.iter().find(|w| w.0 == p)).map(|w| to_nm(w.1));
-    let mut fields: Vec<f64> = Vec::new();
-    if f.field_type.unwrap_or(0) == 0 {
-        let count = f.field_count.unwrap_or(f.xfields.len().max(f.yfields.len()));
-        for k in 0..count.min(f.xfields.len().max(f.yfields.len())) {
-            let x = f.xfields.get(k).copied().unwrap_or(0.0);
-            let y = f.yfields.get(k).copied().unwrap_or(0.0);
-            fields.push(if x == 0.0 { y } else { x.hypot(y) });
-        }
-    }
+    // angles as they are; heights become angles once the lens is built
+    // (`set_fields`)
+    let fields = if f.field_type.unwrap_or(0) == 0 { radial_fields(f) } else { Vec::new() };
     let object_distance = object.disz.filter(|d| d.is_finite()).map(|d| d * s);
     Ok(PrescriptionSpec {
         name: f.name.clone(),
@@ -365,6 +418,15 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
         object_distance_mm: object_distance,
         surfaces,
         ..PrescriptionSpec::default()
+    })
+}
+
+/// The prescription of `spec`, or an error listing what makes it invalid.
+fn build(spec: &PrescriptionSpec, catalogs: &Catalogs) -> Result<Prescription, ZemaxError> {
+    Prescription::from_spec_with(spec, catalogs).map_err(|findings| {
+        let list: Vec<String> =
+            findings.iter().filter(|x| x.severity == crate::model::Severity::Error).map(|x| x.to_string()).collect();
+        err(0, format!("the lens is not valid: {}", list.join("; ")))
     })
 }
 
@@ -388,11 +450,7 @@ fn set_aperture(f: &File, spec: &mut PrescriptionSpec, catalogs: &Catalogs) -> R
     }
     let target_ok = |v: f64| v.is_finite() && v > 0.0;
     spec.surfaces[stop].semi_diameter = Some(given.unwrap_or(1.0));
-    let p = Prescription::from_spec_with(spec, catalogs).map_err(|findings| {
-        let list: Vec<String> =
-            findings.iter().filter(|x| x.severity == crate::model::Severity::Error).map(|x| x.to_string()).collect();
-        err(0, format!("the lens is not valid: {}", list.join("; ")))
-    })?;
+    let p = build(spec, catalogs)?;
     let first = FirstOrder::of(&p).map_err(|e| err(0, format!("cannot set the aperture: {e}")))?;
     let epd = match aperture {
         Aperture::EntrancePupil(d) if target_ok(d) => d * f.scale,

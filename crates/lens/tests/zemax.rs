@@ -296,3 +296,55 @@ fn fields_given_as_heights_become_angles() {
     let e = read(&at_infinity, Catalogs::shipped()).unwrap_err();
     assert!(e.message.contains("object height") && e.message.contains("at infinity"), "{e:?}");
 }
+
+/// Vignetting factors (`VDYN`, `VCYN`, ...) are kept per field and written
+/// back; a fan at a design field launches its rays at Zemax's
+/// `py' = VDY + py (1 - VCY)` (the chief ray unmoved): its rim ray lands
+/// where the same lens without factors sends the ray at py'. A rotated
+/// vignetted pupil (`VANN`) and factors that do not match the fields are
+/// refused.
+#[test]
+fn vignetting_factors_move_the_fans_rays() {
+    use lens::analysis::fan::{ray_fan, ImagePlane};
+    use lens::analysis::{Aim, Field};
+    let vig = ASPHERIC_ZMX.replace(
+        "YFLN 0 7 10 0 0 0 0 0 0 0 0 0\n",
+        "YFLN 0 7 10 0 0 0 0 0 0 0 0 0\nVDYN 0 -0.05 -0.06 0 0 0 0 0 0 0 0 0\nVCXN 0 0.03 0.05 0 0 0 0 0 0 0 0 0\n\
+         VCYN 0 0.1 0.2 0 0 0 0 0 0 0 0 0\nVANN 0 0 0 0 0 0 0 0 0 0 0 0\n",
+    );
+    let spec = read(&vig, Catalogs::shipped()).unwrap();
+    let v = spec.vignetting_factors.clone().unwrap();
+    assert_eq!(v.len(), 3);
+    assert_eq!((v[2].decenter_y, v[2].compress_x, v[2].compress_y), (-0.06, 0.05, 0.2));
+    let p = Prescription::from_spec(&spec).unwrap();
+    // written and read back
+    let again = read(&write(&p).unwrap(), Catalogs::shipped()).unwrap();
+    assert_eq!(again.vignetting_factors, spec.vignetting_factors);
+    // the field of 10 degrees (finite object: its object point)
+    let bare = Prescription::from_spec(&lens::PrescriptionSpec { vignetting_factors: None, ..spec.clone() }).unwrap();
+    let first = FirstOrder::of(&p).unwrap();
+    let field = Field::Height {
+        object_distance: 5000.0,
+        height: -(5000.0 + first.entrance_pupil.z) * 10f64.to_radians().tan(),
+    };
+    let fan = ray_fan(&p, field, 5, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
+    let plain = ray_fan(&bare, field, 5, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
+    assert_eq!(fan.chief, plain.chief, "the chief ray is not moved");
+    let launcher = lens::analysis::Launcher::new(&bare, field, Aim::Paraxial).unwrap();
+    let tracer = lens::Tracer::forward_to_film(&bare, launcher.paraxial_image_z(&bare).unwrap() - bare.last_vertex_z());
+    for (k, py) in [(0, -1.0), (4, 1.0)] {
+        let at = -0.06 + py * (1.0 - 0.2);
+        let b = lens::analysis::bundle::Bundle::trace(&launcher, &tracer, vec![(0.0, at)]).unwrap();
+        let want = b.landings[0].reached().unwrap().origin.y;
+        assert_eq!(fan.tangential[k].py, py);
+        assert_eq!(fan.tangential[k].y, Some(want), "py {py} launched at {at}");
+        assert_ne!(plain.tangential[k].y, Some(want));
+    }
+    // refused: a turned pupil, factors for fewer fields than the file has
+    let e = read(&vig.replace("VANN 0 0 0", "VANN 0 0 5"), Catalogs::shipped()).unwrap_err();
+    assert!(e.message.contains("VANN") && e.message.contains("field 3"), "{e:?}");
+    let mut wrong = spec.clone();
+    wrong.vignetting_factors.as_mut().unwrap().pop();
+    let findings = Prescription::from_spec(&wrong).unwrap_err();
+    assert!(findings.iter().any(|f| f.to_string().contains("2 vignetting_factors for 3 fields_deg")), "{findings:?}");
+}

@@ -121,10 +121,13 @@ pub fn fan_traced(
     let image_z = plane.z(p, launcher)?;
     let tracer = Tracer::forward_to_film(traced, image_z - p.last_vertex_z());
     let coords = fan_coordinates(n);
+    // the design's vignetting factors at this field move the fans' rays
+    // (not the chief ray) into the pupil that passes
+    let vig = p.vignetting_at(launcher.field_angle_deg());
     let mut points = vec![(0.0, 0.0)];
     for &c in &coords {
-        points.push((0.0, c));
-        points.push((c, 0.0));
+        points.push(vig.apply(0.0, c));
+        points.push(vig.apply(c, 0.0));
     }
     let bundle = Bundle::trace(launcher, &tracer, points)?;
     let at = |i: usize| bundle.landings[i].reached().map(|r| [r.origin.x, r.origin.y]);

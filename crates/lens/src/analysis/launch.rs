@@ -183,6 +183,18 @@ impl Launcher {
         self.field
     }
 
+    /// The field's angle, degrees from the axis: the angle itself, or for
+    /// an object point the angle of its chief ray to the paraxial entrance
+    /// pupil (how a design file's field angles name finite-object fields).
+    pub fn field_angle_deg(&self) -> f64 {
+        match self.field {
+            Field::Angle(deg) => deg,
+            Field::Height { object_distance, height } => {
+                (height / (object_distance + self.first.entrance_pupil.z)).atan().to_degrees()
+            }
+        }
+    }
+
     /// First-order data of the prescription.
     pub fn first_order(&self) -> &FirstOrder {
         &self.first

@@ -199,7 +199,11 @@ pub fn spot_traced(
         Ok(())
     };
     let mut error = Ok(());
+    // the design's vignetting factors at this field: the pattern fills the
+    // pupil that passes (the chief ray stays)
+    let vig = p.vignetting_at(launcher.field_angle_deg());
     for_each(pattern, n, |x, y, w| {
+        let (x, y) = vig.apply(x, y);
         group.push((x, y, w));
         if group.len() == GROUP && error.is_ok() {
             error = flush(&mut group);

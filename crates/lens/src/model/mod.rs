@@ -12,5 +12,5 @@ pub mod validate;
 
 pub use finding::{has_errors, Finding, Severity};
 pub use prescription::Prescription;
-pub use spec::{GlassSpec, PrescriptionSpec, SurfaceSpec};
+pub use spec::{GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 pub use surface::Surface;

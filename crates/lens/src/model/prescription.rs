@@ -1,7 +1,7 @@
 //! A validated lens prescription: the data every computation reads.
 
 use super::finding::{has_errors, Finding, Severity};
-use super::spec::{GlassSpec, PrescriptionSpec, SurfaceSpec};
+use super::spec::{GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 use super::surface::Surface;
 use super::validate::validate;
 use crate::error::OpticsError;
@@ -35,6 +35,8 @@ pub struct Prescription {
     glass_catalogs: Option<Vec<String>>,
     /// The design's field angles, degrees.
     fields_deg: Option<Vec<f64>>,
+    /// The design fields' vignetting factors (one per field).
+    vignetting_factors: Option<Vec<VignettingFactors>>,
     /// The design's object distance, mm (`None`: infinity).
     object_distance_mm: Option<f64>,
 }
@@ -118,6 +120,7 @@ impl Prescription {
             wavelength_nm: primary_nm,
             glass_catalogs: spec.glass_catalogs.clone(),
             fields_deg: spec.fields_deg.clone(),
+            vignetting_factors: spec.vignetting_factors.clone(),
             object_distance_mm: spec.object_distance_mm,
         })
     }
@@ -148,6 +151,26 @@ impl Prescription {
     /// names none).
     pub fn fields_deg(&self) -> &[f64] {
         self.fields_deg.as_deref().unwrap_or(&[])
+    }
+
+    /// The design fields' vignetting factors, one per field of
+    /// [`Self::fields_deg`] (empty when the file gives none).
+    pub fn vignetting_factors(&self) -> &[VignettingFactors] {
+        self.vignetting_factors.as_deref().unwrap_or(&[])
+    }
+
+    /// The vignetting factors for a field of `deg` degrees from the axis:
+    /// those of the design field nearest it in angle (the first of two as
+    /// near), as optiland takes them; none when the file gives none.
+    pub fn vignetting_at(&self, deg: f64) -> VignettingFactors {
+        let mut best: Option<(f64, VignettingFactors)> = None;
+        for (f, v) in self.fields_deg().iter().zip(self.vignetting_factors()) {
+            let d = (f.abs() - deg.abs()).abs();
+            if best.is_none_or(|(b, _)| d < b) {
+                best = Some((d, *v));
+            }
+        }
+        best.map(|(_, v)| v).unwrap_or_default()
     }
 
     /// The object distance the design is for, mm in front of the first
@@ -201,6 +224,7 @@ impl Prescription {
             primary_wavelength_nm: (self.primary_nm != LINE_D_NM).then_some(self.primary_nm),
             glass_catalogs: self.glass_catalogs.clone(),
             fields_deg: self.fields_deg.clone(),
+            vignetting_factors: self.vignetting_factors.clone(),
             object_distance_mm: self.object_distance_mm,
             surfaces: self
                 .surfaces

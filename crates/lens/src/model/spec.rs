@@ -44,6 +44,11 @@ pub struct PrescriptionSpec {
     /// design file lists them; analyses take their field as a flag).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fields_deg: Option<Vec<f64>>,
+    /// Vignetting factors, one per field of `fields_deg` (as Zemax's `VDX`,
+    /// `VDY`, `VCX`, `VCY`): fans and spot diagrams at a field fill the
+    /// pupil the factors give (see [`VignettingFactors`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vignetting_factors: Option<Vec<VignettingFactors>>,
     /// The object distance the design is for, mm in front of the first
     /// vertex; omitted means infinity. `lens info` uses it unless given
     /// `--object-distance`.
@@ -51,6 +56,41 @@ pub struct PrescriptionSpec {
     pub object_distance_mm: Option<f64>,
     /// Surfaces, object side first.
     pub surfaces: Vec<SurfaceSpec>,
+}
+
+/// How a field's rays fill the entrance pupil, as Zemax's vignetting
+/// factors: a ray of normalised pupil coordinates (px, py) is launched at
+/// (`decenter_x` + px (1 - `compress_x`), `decenter_y` + py (1 -
+/// `compress_y`)), so a design that vignettes by intent fans and spots
+/// over the part of the pupil that passes. The chief ray is not moved.
+/// All four are fractions of the pupil radius (0: none).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VignettingFactors {
+    /// Shift of the pupil's centre in x, in pupil radii.
+    #[serde(default)]
+    pub decenter_x: f64,
+    /// Shift of the pupil's centre in y, in pupil radii.
+    #[serde(default)]
+    pub decenter_y: f64,
+    /// Fraction by which the pupil is narrowed in x (less than 1).
+    #[serde(default)]
+    pub compress_x: f64,
+    /// Fraction by which the pupil is narrowed in y (less than 1).
+    #[serde(default)]
+    pub compress_y: f64,
+}
+
+impl VignettingFactors {
+    /// Whether every factor is 0 (the full pupil).
+    pub fn is_none(&self) -> bool {
+        *self == VignettingFactors::default()
+    }
+
+    /// The launched pupil point of normalised pupil coordinates (px, py).
+    pub fn apply(&self, px: f64, py: f64) -> (f64, f64) {
+        (self.decenter_x + px * (1.0 - self.compress_x), self.decenter_y + py * (1.0 - self.compress_y))
+    }
 }
 
 /// The glass after a surface: a catalogue name or a model glass.

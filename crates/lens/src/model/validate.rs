@@ -69,6 +69,35 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
             );
         }
     }
+    if let Some(v) = &spec.vignetting_factors {
+        let fields = spec.fields_deg.as_ref().map_or(0, Vec::len);
+        if v.len() != fields {
+            out.push(
+                Severity::Error,
+                None,
+                Some("vignetting_factors"),
+                format!(
+                    "{} vignetting_factors for {fields} fields_deg: give one set per field, in the order of fields_deg",
+                    v.len()
+                ),
+            );
+        }
+        for (k, f) in v.iter().enumerate() {
+            let all = [f.decenter_x, f.decenter_y, f.compress_x, f.compress_y];
+            if !all.iter().all(|x| x.is_finite()) || f.compress_x >= 1.0 || f.compress_y >= 1.0 {
+                out.push(
+                    Severity::Error,
+                    None,
+                    Some("vignetting_factors"),
+                    format!(
+                        "vignetting_factors of field {} ({all:?}): give finite numbers, compress_x and compress_y \
+                         below 1 (1 would close the pupil)",
+                        k + 1
+                    ),
+                );
+            }
+        }
+    }
     if spec.surfaces.is_empty() {
         out.push(Severity::Error, None, Some("surfaces"), "no surfaces: list at least one surface".into());
         return out.0;

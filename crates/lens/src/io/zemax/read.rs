@@ -2,7 +2,7 @@
 //! read, how, and what is refused: docs/zemax.md.
 
 use crate::glass::Catalogs;
-use crate::model::{GlassSpec, Prescription, PrescriptionSpec, SurfaceSpec};
+use crate::model::{GlassSpec, Prescription, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 use crate::paraxial::FirstOrder;
 
 /// A problem with a Zemax file: what, where (1-based line, 0 for the whole
@@ -56,6 +56,10 @@ struct File {
     wave_count: Option<usize>,
     xfields: Vec<f64>,
     yfields: Vec<f64>,
+    /// `VDXN`, `VDYN`, `VCXN`, `VCYN`, `VANN` (per field), and the line of
+    /// the first.
+    vignetting: [Vec<f64>; 5],
+    vignetting_line: usize,
     waves: Vec<(usize, f64)>,
     primary: Option<usize>,
     gcat: Vec<String>,
@@ -90,6 +94,34 @@ fn radial_fields(f: &File) -> Vec<f64> {
             }
         })
         .collect()
+}
+
+/// The fields' vignetting factors (`VDXN`, `VDYN`, `VCXN`, `VCYN`), one
+/// set per field, or `None` where all are 0; a rotation of the vignetted
+/// pupil (`VANN`) is refused.
+fn vignetting(f: &File) -> Result<Option<Vec<VignettingFactors>>, ZemaxError> {
+    let n = radial_fields(f).len();
+    let at = |k: usize, i: usize| f.vignetting[k].get(i).copied().unwrap_or(0.0);
+    if let Some(i) = (0..n).find(|&i| at(4, i) != 0.0) {
+        return Err(err(
+            f.vignetting_line,
+            format!(
+                "VANN: field {} turns its vignetted pupil by {} degrees, which is not supported; set the angle to 0 \
+                 (or remove the vignetting factors)",
+                i + 1,
+                at(4, i)
+            ),
+        ));
+    }
+    let v: Vec<VignettingFactors> = (0..n)
+        .map(|i| VignettingFactors {
+            decenter_x: at(0, i),
+            decenter_y: at(1, i),
+            compress_x: at(2, i),
+            compress_y: at(3, i),
+        })
+        .collect();
+    Ok(v.iter().any(|x| !x.is_none()).then_some(v))
 }
 
 /// Fields given as heights (`FTYP 1` object height, `2` paraxial image
@@ -216,6 +248,14 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
                     f.xfields = v;
                 } else {
                     f.yfields = v;
+                }
+            }
+            "VDXN" | "VDYN" | "VCXN" | "VCYN" | "VANN" => {
+                let v = tok[1..].iter().map(|t| number(Some(t), line, key)).collect::<Result<Vec<_>, _>>()?;
+                let k = ["VDXN", "VDYN", "VCXN", "VCYN", "VANN"].iter().position(|x| *x == key).unwrap_or(0);
+                f.vignetting[k] = v;
+                if f.vignetting_line == 0 {
+                    f.vignetting_line = line;
                 }
             }
             "WAVM" => {
@@ -415,6 +455,7 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
         wavelengths_nm: (!nm.is_empty()).then_some(nm),
         primary_wavelength_nm: primary,
         fields_deg: (!fields.is_empty()).then_some(fields),
+        vignetting_factors: vignetting(f)?,
         object_distance_mm: object_distance,
         surfaces,
         ..PrescriptionSpec::default()

@@ -76,6 +76,16 @@ pub fn write(p: &Prescription) -> Result<String, String> {
     line(format!("FTYP 0 0 {} {} 0 0 0", fields.len(), waves.len()));
     line(format!("XFLN {}", vec!["0"; fields.len()].join(" ")));
     line(format!("YFLN {}", fields.iter().map(|f| z(*f)).collect::<Vec<_>>().join(" ")));
+    let vig = p.vignetting_factors();
+    if !vig.is_empty() {
+        let row = |key: &str, of: fn(&crate::model::VignettingFactors) -> f64| {
+            format!("{key} {}", vig.iter().map(|v| z(of(v))).collect::<Vec<_>>().join(" "))
+        };
+        line(row("VDXN", |v| v.decenter_x));
+        line(row("VDYN", |v| v.decenter_y));
+        line(row("VCXN", |v| v.compress_x));
+        line(row("VCYN", |v| v.compress_y));
+    }
     for (i, w) in waves.iter().enumerate() {
         line(format!("WAVM {} {} 1", i + 1, z(w / 1000.0)));
     }

@@ -157,6 +157,8 @@ fn unsupported_content_is_an_error_naming_the_surface() {
     };
     let e = with("GLAS N-BK7", "GLAS NOT-A-GLASS");
     assert!(e.message.contains("surface 1") && e.message.contains("NOT-A-GLASS"), "{e:?}");
+    // the nd and vd the file records with the name are offered, not used
+    assert!(e.message.contains("GLAS ___BLANK 1 0 1.5168 64.17"), "{e:?}");
     assert_eq!(e.line, 26);
     let e = with("TYPE ODDASPHE", "TYPE COORDBRK");
     assert!(e.message.contains("surface 2") && e.message.contains("coordinate break"), "{e:?}");

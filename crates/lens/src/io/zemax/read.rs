@@ -372,14 +372,26 @@ fn glass_of(b: &Block, gcat: &[String], catalogs: &Catalogs) -> Result<(Option<G
     }
     match catalogs.find(name) {
         Ok(g) => Ok((Some(GlassSpec::Name(g.full_name())), None)),
-        Err(e) => Err(err(
-            line,
-            format!(
-                "surface {}: glass {name} is not in the catalogues GCAT lists ({}) nor in any loaded one ({e}); give its AGF catalogue with --glass-catalog",
-                b.number,
-                if gcat.is_empty() { "none".to_string() } else { gcat.join(", ") }
-            ),
-        )),
+        Err(e) => {
+            // the nd and vd a design program recorded with the name (0 when
+            // it recorded none): offered, never used unasked
+            let recorded = |k: usize| tok.get(k).and_then(|t| t.parse::<f64>().ok()).filter(|v| *v > 0.0);
+            let hint = match (recorded(3), recorded(4)) {
+                (Some(nd), Some(vd)) => format!(
+                    "; the file records nd {nd} and vd {vd} for it: to trace a model glass of those, write the line as \
+                     GLAS ___BLANK 1 0 {nd} {vd}"
+                ),
+                _ => String::new(),
+            };
+            Err(err(
+                line,
+                format!(
+                    "surface {}: glass {name} is not in the catalogues GCAT lists ({}) nor in any loaded one ({e}); give its AGF catalogue with --glass-catalog{hint}",
+                    b.number,
+                    if gcat.is_empty() { "none".to_string() } else { gcat.join(", ") }
+                ),
+            ))
+        }
     }
 }
 

@@ -159,6 +159,18 @@ fn unsupported_content_is_an_error_naming_the_surface() {
     assert!(e.message.contains("surface 1") && e.message.contains("NOT-A-GLASS"), "{e:?}");
     // the nd and vd the file records with the name are offered, not used
     assert!(e.message.contains("GLAS ___BLANK 1 0 1.5168 64.17"), "{e:?}");
+    // an obsolete SCHOTT name another vendor keeps for the same glass type
+    // is taken, and said, where the recorded nd and vd are that glass's;
+    // where they are not, it is another glass of the same name
+    let old = ASPHERIC_ZMX.replace("GLAS N-BK7 0 0 1.5168 64.17", "GLAS SK16 0 0 1.62041 60.324");
+    let spec = read(&old, Catalogs::shipped()).unwrap();
+    assert_eq!(spec.surfaces[0].glass, Some(lens::model::GlassSpec::Name("HIKARI:SK16".into())));
+    assert!(spec.source.as_deref().is_some_and(|s| s.contains("SK16 is not in OHARA, SCHOTT; HIKARI:SK16 is")));
+    let e = with("GLAS N-BK7 0 0 1.5168 64.17", "GLAS SK16 0 0 1.7 30");
+    assert!(
+        e.message.contains("HIKARI:SK16 has that name but nd 1.620409") && e.message.contains("another glass"),
+        "{e:?}"
+    );
     assert_eq!(e.line, 26);
     let e = with("TYPE ODDASPHE", "TYPE COORDBRK");
     assert!(e.message.contains("surface 2") && e.message.contains("coordinate break"), "{e:?}");

@@ -42,11 +42,11 @@ pub fn load_spec_with(path: &Path, catalogs: &Catalogs) -> Result<PrescriptionSp
         })?;
         let mut spec =
             zemax::read(&text, catalogs).map_err(|e| LoadError::Zemax { origin, line: e.line, message: e.message })?;
-        if spec.source.is_none() {
-            let file =
-                path.file_name().map_or_else(|| path.display().to_string(), |f| f.to_string_lossy().into_owned());
-            spec.source = Some(format!("imported from the Zemax file {file}"));
-        }
+        let file = path.file_name().map_or_else(|| path.display().to_string(), |f| f.to_string_lossy().into_owned());
+        spec.source = Some(match spec.source.take() {
+            Some(notes) => format!("imported from the Zemax file {file}; {notes}"),
+            None => format!("imported from the Zemax file {file}"),
+        });
         return Ok(spec);
     }
     let text = String::from_utf8(bytes).map_err(|e| {

@@ -348,7 +348,19 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
 }
 
 /// The glass after a surface, from its `GLAS` tokens.
-fn glass_of(b: &Block, gcat: &[String], catalogs: &Catalogs) -> Result<(Option<GlassSpec>, Option<f64>), ZemaxError> {
+///
+/// A name found only outside the vendors `GCAT` lists (an obsolete SCHOTT
+/// name that another vendor keeps for its equivalent, say) is taken only
+/// where the nd and vd the file records with it are that glass's (nd within
+/// 1e-3, vd within 0.5: the same glass type), and the substitution is noted
+/// in `notes`; where they differ it is another glass of the same name, an
+/// error.
+fn glass_of(
+    b: &Block,
+    gcat: &[String],
+    catalogs: &Catalogs,
+    notes: &mut Vec<String>,
+) -> Result<(Option<GlassSpec>, Option<f64>), ZemaxError> {
     let Some((tok, line)) = &b.glass else { return Ok((None, None)) };
     let line = *line;
     let Some(name) = tok.first() else { return Ok((None, None)) };
@@ -370,12 +382,53 @@ fn glass_of(b: &Block, gcat: &[String], catalogs: &Catalogs) -> Result<(Option<G
             return Ok((Some(GlassSpec::Name(g.full_name())), None));
         }
     }
+    let searched = if gcat.is_empty() { "no vendor (the file has no GCAT)".to_string() } else { gcat.join(", ") };
+    // the nd and vd a design program recorded with the name (0 when it
+    // recorded none)
+    let recorded = |k: usize| tok.get(k).and_then(|t| t.parse::<f64>().ok()).filter(|v| *v > 0.0);
     match catalogs.find(name) {
-        Ok(g) => Ok((Some(GlassSpec::Name(g.full_name())), None)),
+        Ok(g) => {
+            let nd = g.catalog_nd.or_else(|| g.index(crate::glass::LINE_D_NM).ok());
+            let (want_nd, want_vd) = (recorded(3), recorded(4));
+            let differs = match (want_nd, nd) {
+                (Some(w), Some(n)) => (w - n).abs() > 1e-3,
+                _ => false,
+            } || match (want_vd, g.catalog_vd) {
+                (Some(w), Some(v)) => (w - v).abs() > 0.5,
+                _ => false,
+            };
+            let show = |x: Option<f64>| x.map_or_else(|| "?".to_string(), |v| format!("{v}"));
+            if differs {
+                return Err(err(
+                    line,
+                    format!(
+                        "surface {}: glass {name} is not in the catalogues GCAT lists ({searched}); {} has that name but \
+                         nd {} and vd {} where the file records nd {} and vd {}: another glass; give the file's \
+                         catalogue with --glass-catalog",
+                        b.number,
+                        g.full_name(),
+                        show(nd),
+                        show(g.catalog_vd),
+                        show(want_nd),
+                        show(want_vd)
+                    ),
+                ));
+            }
+            notes.push(format!(
+                "surface {}: {name} is not in {searched}; {} is (nd {}, vd {}{})",
+                b.number,
+                g.full_name(),
+                show(nd),
+                show(g.catalog_vd),
+                match (want_nd, want_vd) {
+                    (Some(n), Some(v)) => format!("; the file records {n} and {v}"),
+                    _ => "; the file records no nd and vd to check it by".into(),
+                }
+            ));
+            Ok((Some(GlassSpec::Name(g.full_name())), None))
+        }
         Err(e) => {
-            // the nd and vd a design program recorded with the name (0 when
-            // it recorded none): offered, never used unasked
-            let recorded = |k: usize| tok.get(k).and_then(|t| t.parse::<f64>().ok()).filter(|v| *v > 0.0);
+            // offered, never used unasked
             let hint = match (recorded(3), recorded(4)) {
                 (Some(nd), Some(vd)) => format!(
                     "; the file records nd {nd} and vd {vd} for it: to trace a model glass of those, write the line as \
@@ -386,9 +439,8 @@ fn glass_of(b: &Block, gcat: &[String], catalogs: &Catalogs) -> Result<(Option<G
             Err(err(
                 line,
                 format!(
-                    "surface {}: glass {name} is not in the catalogues GCAT lists ({}) nor in any loaded one ({e}); give its AGF catalogue with --glass-catalog{hint}",
+                    "surface {}: glass {name} is not in the catalogues GCAT lists ({searched}) nor in any loaded one ({e}); give its AGF catalogue with --glass-catalog{hint}",
                     b.number,
-                    if gcat.is_empty() { "none".to_string() } else { gcat.join(", ") }
                 ),
             ))
         }
@@ -404,13 +456,14 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
         return Err(err(image.line, "the image surface is curved: only a flat film is supported"));
     }
     let mut surfaces = Vec::with_capacity(n - 2);
+    let mut notes = Vec::new();
     for b in &f.blocks[1..n - 1] {
         let line = b.line;
         let thickness = b.disz.unwrap_or(0.0);
         if !thickness.is_finite() {
             return Err(err(line, format!("surface {}: DISZ INFINITY: only the object may be at infinity", b.number)));
         }
-        let (glass, ior) = glass_of(b, &f.gcat, catalogs)?;
+        let (glass, ior) = glass_of(b, &f.gcat, catalogs, &mut notes)?;
         let kind = b.kind.as_deref().unwrap_or("STANDARD");
         let terms = |odd: bool| -> Option<Vec<f64>> {
             let mut v: Vec<f64> = (1..=8)
@@ -462,7 +515,9 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
     let object_distance = object.disz.filter(|d| d.is_finite()).map(|d| d * s);
     Ok(PrescriptionSpec {
         name: f.name.clone(),
-        source: None,
+        // what the import had to decide (read by `io::load_spec` into the
+        // source it writes)
+        source: (!notes.is_empty()).then(|| format!("glasses outside the file's GCAT vendors: {}", notes.join("; "))),
         units: Some("mm".into()),
         wavelengths_nm: (!nm.is_empty()).then_some(nm),
         primary_wavelength_nm: primary,

@@ -3,6 +3,7 @@
 use crate::args::{JsonArgs, LensArgs, ObjectArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::aperture::clear_aperture_limit;
+use lens::error::num;
 use lens::paraxial::{imaging, FirstOrder, ObjectDistance};
 use serde_json::json;
 use std::process::ExitCode;
@@ -90,5 +91,28 @@ pub fn run(a: Args) -> CmdResult {
     row("working f-number", format!("{:.4}", img.working_f_number))?;
     row("film distance", format!("{:.6}  (last thickness)", p.film_distance()))?;
     row("total track", format!("{:.6}", f.total_track))?;
+    let primary = p.primary_wavelength_nm();
+    let waves: Vec<String> = p
+        .wavelengths_nm()
+        .iter()
+        .map(|w| if *w == primary { format!("{w} (primary)") } else { format!("{w}") })
+        .collect();
+    row("wavelengths, nm", waves.join(", "))?;
+    if !p.fields_deg().is_empty() {
+        let fields: Vec<String> = p.fields_deg().iter().map(|d| format!("{d}")).collect();
+        row("design fields, degrees", fields.join(", "))?;
+    }
+    for (d, v) in p.fields_deg().iter().zip(p.vignetting_factors()).filter(|(_, v)| !v.is_none()) {
+        row(
+            &format!("vignetting at {} deg", num(*d)),
+            format!(
+                "decenter x {} y {}, compress x {} y {}",
+                num(v.decenter_x),
+                num(v.decenter_y),
+                num(v.compress_x),
+                num(v.compress_y)
+            ),
+        )?;
+    }
     Ok(ExitCode::SUCCESS)
 }

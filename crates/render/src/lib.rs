@@ -24,6 +24,7 @@ pub mod report;
 pub mod rng;
 pub mod scene;
 pub mod spectrum;
+mod splat;
 pub mod study;
 pub mod transport;
 

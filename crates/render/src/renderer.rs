@@ -13,6 +13,7 @@ use crate::scene::format::FilterSpec;
 use crate::scene::{ColourMode, Scene};
 use crate::spectrum::sampled::N;
 use crate::spectrum::{cie, SampledSpectrum, SampledWavelengths};
+use crate::splat::{splat_sample, Splats};
 use crate::transport::{Rgb, Spectral};
 use glam::DVec3;
 use rayon::prelude::*;
@@ -49,6 +50,10 @@ impl Stats {
 /// tracer), then each is followed into the scene.
 const GROUP_SAMPLES: usize = 8192;
 
+/// Rows rendered together before their splats are added (a fixed number,
+/// so the image does not depend on the number of threads).
+const BAND_ROWS: usize = 32;
+
 /// Renders `scene`; `progress` is called with the number of finished rows.
 ///
 /// Each pixel has its own random stream (seeded by the render seed and the
@@ -65,7 +70,10 @@ const GROUP_SAMPLES: usize = 8192;
 /// CIE XYZ and is converted to linear sRGB at the end. Through a
 /// dispersive camera the four wavelengths of a sample leave the lens along
 /// one scene ray from four film points, combined by multiple importance
-/// sampling ([`Camera::rays_spectral`]). An RGB scene draws
+/// sampling ([`Camera::rays_spectral`]); with the box filter each
+/// wavelength's light goes to the pixel it lands in (`splat.rs`), rows
+/// rendered in bands whose splats are added in row order, so the image does
+/// not depend on the number of threads. An RGB scene draws
 /// exactly the random numbers it drew before spectra existed.
 pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) -> (Image, Stats) {
     let (w, h) = (scene.film.width as usize, scene.film.height as usize);
@@ -74,125 +82,153 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
     let done = AtomicUsize::new(0);
     let passed = AtomicUsize::new(0);
     let group = (GROUP_SAMPLES / spp).max(1);
-    let rows: Vec<Vec<DVec3>> = (0..h)
-        .into_par_iter()
-        .map(|y| {
-            let mut row = Vec::with_capacity(w);
-            let mut row_passed = 0;
-            let mut samples = Vec::with_capacity(group.min(w) * spp);
-            let mut rays = Vec::with_capacity(samples.capacity());
-            let mut order: Vec<usize> = Vec::with_capacity(strata * strata);
-            let mut colours: Vec<SampledWavelengths> = Vec::with_capacity(samples.capacity());
-            let mut lambda_order: Vec<usize> = Vec::new();
-            let (mut light_order, mut bsdf_order) = (Vec::new(), Vec::new());
-            let mut firsts: Vec<FirstBounce> = Vec::with_capacity(samples.capacity());
-            let mut lanes = Vec::new();
-            for x0 in (0..w).step_by(group) {
-                let xs = x0..(x0 + group).min(w);
-                let mut samplers: Vec<Sampler> =
-                    xs.clone().map(|x| Sampler::new(opt.seed, (y * w + x) as u64)).collect();
-                samples.clear();
-                colours.clear();
-                firsts.clear();
-                for (x, s) in xs.clone().zip(&mut samplers) {
-                    // the aperture strata in a random order of this pixel's own
-                    shuffle_strata(&mut order, strata, s);
-                    for k in 0..spp {
-                        let stratified_k = k < order.len();
-                        let (jx, jy) = if stratified_k { stratified(k, strata, s.next2()) } else { s.next2() };
-                        let (ox, oy) = match scene.film.filter {
-                            FilterSpec::Box => (jx, jy),
-                            FilterSpec::Tent => (0.5 + tent(jx), 0.5 + tent(jy)),
-                        };
-                        let a = from_stratum(&order, k, strata, s);
-                        let film = ((x as f64 + ox) / w as f64, (y as f64 + oy) / h as f64);
-                        samples.push(CameraSample::new(film, a));
+    // through a dispersive lens with the box filter, companion wavelengths
+    // go to the pixel they land in (`splat`): rows are rendered in bands,
+    // each band's splats added in row order once it is done, so the image
+    // does not depend on the number of threads
+    let splatting = matches!(scene.colour, ColourMode::Spectral(_))
+        && scene.camera.is_dispersive()
+        && scene.film.filter == FilterSpec::Box;
+    let mut film: Vec<DVec3> = vec![DVec3::ZERO; w * h];
+    for band in (0..h).step_by(BAND_ROWS) {
+        let rows: Vec<(Vec<DVec3>, Option<Splats>)> = (band..(band + BAND_ROWS).min(h))
+            .into_par_iter()
+            .map(|y| {
+                let mut splats = splatting.then(|| Splats::new(y, w, h));
+                let mut row = Vec::with_capacity(w);
+                let mut row_passed = 0;
+                let mut samples = Vec::with_capacity(group.min(w) * spp);
+                let mut rays = Vec::with_capacity(samples.capacity());
+                let mut order: Vec<usize> = Vec::with_capacity(strata * strata);
+                let mut colours: Vec<SampledWavelengths> = Vec::with_capacity(samples.capacity());
+                let mut lambda_order: Vec<usize> = Vec::new();
+                let (mut light_order, mut bsdf_order) = (Vec::new(), Vec::new());
+                let mut firsts: Vec<FirstBounce> = Vec::with_capacity(samples.capacity());
+                let mut lanes = Vec::new();
+                for x0 in (0..w).step_by(group) {
+                    let xs = x0..(x0 + group).min(w);
+                    let mut samplers: Vec<Sampler> =
+                        xs.clone().map(|x| Sampler::new(opt.seed, (y * w + x) as u64)).collect();
+                    samples.clear();
+                    colours.clear();
+                    firsts.clear();
+                    for (x, s) in xs.clone().zip(&mut samplers) {
+                        // the aperture strata in a random order of this pixel's own
+                        shuffle_strata(&mut order, strata, s);
+                        for k in 0..spp {
+                            let stratified_k = k < order.len();
+                            let (jx, jy) = if stratified_k { stratified(k, strata, s.next2()) } else { s.next2() };
+                            let (ox, oy) = match scene.film.filter {
+                                FilterSpec::Box => (jx, jy),
+                                FilterSpec::Tent => (0.5 + tent(jx), 0.5 + tent(jy)),
+                            };
+                            let a = from_stratum(&order, k, strata, s);
+                            let film = ((x as f64 + ox) / w as f64, (y as f64 + oy) / h as f64);
+                            samples.push(CameraSample::new(film, a));
+                        }
+                        // the first bounce's light and direction: strata of
+                        // their own, each in a random order of the pixel's
+                        shuffle_strata(&mut light_order, strata, s);
+                        shuffle_strata(&mut bsdf_order, strata, s);
+                        for k in 0..spp {
+                            let light = from_stratum(&light_order, k, strata, s);
+                            firsts.push(FirstBounce { light, bsdf: from_stratum(&bsdf_order, k, strata, s) });
+                        }
+                        let start = colours.len();
+                        push_wavelengths(scene, spp, s, &mut lambda_order, &mut colours);
+                        let first = samples.len() - spp;
+                        for (sample, wl) in samples[first..].iter_mut().zip(&colours[start..]) {
+                            sample.wavelength_nm = Some(wl.hero());
+                        }
                     }
-                    // the first bounce's light and direction: strata of
-                    // their own, each in a random order of the pixel's
-                    shuffle_strata(&mut light_order, strata, s);
-                    shuffle_strata(&mut bsdf_order, strata, s);
-                    for k in 0..spp {
-                        let light = from_stratum(&light_order, k, strata, s);
-                        firsts.push(FirstBounce { light, bsdf: from_stratum(&bsdf_order, k, strata, s) });
+                    if let ColourMode::Spectral(_) = scene.colour {
+                        // a camera whose rays do not depend on wavelength sends
+                        // all four along one ray with its plain weight
+                        let dispersive = scene.camera.is_dispersive();
+                        if dispersive {
+                            scene.camera.rays_spectral(&samples, &colours, &mut lanes);
+                        } else {
+                            scene.camera.rays(&samples, &mut rays);
+                        }
+                        for (i, s) in samplers.iter_mut().enumerate() {
+                            let x = x0 + i;
+                            let mut sum = DVec3::ZERO;
+                            for k in i * spp..(i + 1) * spp {
+                                let (ray, lane, weight) = if dispersive {
+                                    match &lanes[k] {
+                                        Some((ray, lane)) if lane[0].transmission > 0.0 => (*ray, Some(lane), 1.0),
+                                        _ => continue,
+                                    }
+                                } else {
+                                    match rays[k] {
+                                        Some((ray, w)) if w > 0.0 => (ray, None, w),
+                                        _ => continue,
+                                    }
+                                };
+                                row_passed += 1;
+                                let mut t = Spectral::new(colours[k]);
+                                let l = radiance_with(scene, ray, &mut t, s, Some(firsts[k]));
+                                sum += match lane {
+                                    Some(lane) => match splats.as_mut() {
+                                        Some(sp) => splat_sample(&t.wavelengths, l, lane, (x, y), sp),
+                                        None => {
+                                            let pixel = |film: (f64, f64)| {
+                                                pixel_density(scene.film.filter, film, (x, y), (w, h))
+                                            };
+                                            combine(&t.wavelengths, l, lane, pixel)
+                                        }
+                                    },
+                                    None => t.wavelengths.xyz(l) * weight,
+                                };
+                            }
+                            row.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));
+                        }
+                        continue;
                     }
-                    let start = colours.len();
-                    push_wavelengths(scene, spp, s, &mut lambda_order, &mut colours);
-                    let first = samples.len() - spp;
-                    for (sample, wl) in samples[first..].iter_mut().zip(&colours[start..]) {
-                        sample.wavelength_nm = Some(wl.hero());
-                    }
-                }
-                if let ColourMode::Spectral(_) = scene.colour {
-                    // a camera whose rays do not depend on wavelength sends
-                    // all four along one ray with its plain weight
-                    let dispersive = scene.camera.is_dispersive();
-                    if dispersive {
-                        scene.camera.rays_spectral(&samples, &colours, &mut lanes);
-                    } else {
-                        scene.camera.rays(&samples, &mut rays);
-                    }
+                    scene.camera.rays(&samples, &mut rays);
                     for (i, s) in samplers.iter_mut().enumerate() {
-                        let x = x0 + i;
                         let mut sum = DVec3::ZERO;
                         for k in i * spp..(i + 1) * spp {
-                            let (ray, lane, weight) = if dispersive {
-                                match &lanes[k] {
-                                    Some((ray, lane)) if lane[0].transmission > 0.0 => (*ray, Some(lane), 1.0),
-                                    _ => continue,
-                                }
-                            } else {
-                                match rays[k] {
-                                    Some((ray, w)) if w > 0.0 => (ray, None, w),
-                                    _ => continue,
-                                }
-                            };
+                            let Some((ray, weight)) = rays[k] else { continue };
+                            if weight <= 0.0 {
+                                continue;
+                            }
                             row_passed += 1;
-                            let mut t = Spectral::new(colours[k]);
-                            let l = radiance_with(scene, ray, &mut t, s, Some(firsts[k]));
-                            sum += match lane {
-                                Some(lane) => {
-                                    let pixel =
-                                        |film: (f64, f64)| pixel_density(scene.film.filter, film, (x, y), (w, h));
-                                    combine(&t.wavelengths, l, lane, pixel)
-                                }
-                                None => t.wavelengths.xyz(l) * weight,
-                            };
+                            let first = Some(firsts[k]);
+                            sum += weight
+                                * match scene.colour {
+                                    ColourMode::Monochromatic(nm) => {
+                                        let mut t = Spectral::new(SampledWavelengths::single(nm));
+                                        DVec3::splat(radiance_with(scene, ray, &mut t, s, first).0[0])
+                                    }
+                                    _ => radiance_with(scene, ray, &mut Rgb, s, first),
+                                };
                         }
-                        row.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));
+                        row.push(sum / spp as f64);
                     }
-                    continue;
                 }
-                scene.camera.rays(&samples, &mut rays);
-                for (i, s) in samplers.iter_mut().enumerate() {
-                    let mut sum = DVec3::ZERO;
-                    for k in i * spp..(i + 1) * spp {
-                        let Some((ray, weight)) = rays[k] else { continue };
-                        if weight <= 0.0 {
-                            continue;
-                        }
-                        row_passed += 1;
-                        let first = Some(firsts[k]);
-                        sum += weight
-                            * match scene.colour {
-                                ColourMode::Monochromatic(nm) => {
-                                    let mut t = Spectral::new(SampledWavelengths::single(nm));
-                                    DVec3::splat(radiance_with(scene, ray, &mut t, s, first).0[0])
-                                }
-                                _ => radiance_with(scene, ray, &mut Rgb, s, first),
-                            };
-                    }
-                    row.push(sum / spp as f64);
-                }
+                passed.fetch_add(row_passed, Ordering::Relaxed);
+                progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+                (row, splats)
+            })
+            .collect();
+        // each row's own values, then the band's splats (which may reach rows
+        // of other bands), in row order
+        let mut band_splats = Vec::new();
+        for (y, (row, sp)) in (band..).zip(rows) {
+            for (p, v) in film[y * w..(y + 1) * w].iter_mut().zip(row) {
+                *p += v;
             }
-            passed.fetch_add(row_passed, Ordering::Relaxed);
-            progress(done.fetch_add(1, Ordering::Relaxed) + 1);
-            row
-        })
-        .collect();
+            band_splats.extend(sp);
+        }
+        let scale = 1.0 / (spp as f64 * cie::y_integral());
+        for sp in band_splats {
+            sp.merge_into(&mut film, scale);
+        }
+    }
     let camera_rays = w * h * spp;
     let stats = Stats { camera_rays, camera_rays_passed: passed.load(Ordering::Relaxed) };
-    (Image { width: w, height: h, pixels: rows.concat() }, stats)
+    (Image { width: w, height: h, pixels: film }, stats)
 }
 
 /// The XYZ estimate (times ∫ȳ) of one spectral camera sample: its

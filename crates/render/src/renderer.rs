@@ -50,9 +50,10 @@ impl Stats {
 /// tracer), then each is followed into the scene.
 const GROUP_SAMPLES: usize = 8192;
 
-/// Rows rendered together before their splats are added (a fixed number,
-/// so the image does not depend on the number of threads).
-const BAND_ROWS: usize = 32;
+/// Rows rendered together before their splats are added, when a render
+/// splats (a fixed number, so the image does not depend on the number of
+/// threads; other renders take all rows at once).
+const BAND_ROWS: usize = 64;
 
 /// Renders `scene`; `progress` is called with the number of finished rows.
 ///
@@ -90,8 +91,9 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
         && scene.camera.is_dispersive()
         && scene.film.filter == FilterSpec::Box;
     let mut film: Vec<DVec3> = vec![DVec3::ZERO; w * h];
-    for band in (0..h).step_by(BAND_ROWS) {
-        let rows: Vec<(Vec<DVec3>, Option<Splats>)> = (band..(band + BAND_ROWS).min(h))
+    let band_rows = if splatting { BAND_ROWS } else { h.max(1) };
+    for band in (0..h).step_by(band_rows) {
+        let rows: Vec<(Vec<DVec3>, Option<Splats>)> = (band..(band + band_rows).min(h))
             .into_par_iter()
             .map(|y| {
                 let mut splats = splatting.then(|| Splats::new(y, w, h));

@@ -344,6 +344,8 @@ fn vignetting_factors_move_the_fans_rays() {
     let fan = ray_fan(&p, field, 5, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
     let plain = ray_fan(&bare, field, 5, Aim::Paraxial, ImagePlane::Paraxial).unwrap();
     assert_eq!(fan.chief, plain.chief, "the chief ray is not moved");
+    assert_eq!(fan.vignetting_factors, Some(v[2]), "the fan says which factors it used");
+    assert_eq!(plain.vignetting_factors, None);
     let launcher = lens::analysis::Launcher::new(&bare, field, Aim::Paraxial).unwrap();
     let tracer = lens::Tracer::forward_to_film(&bare, launcher.paraxial_image_z(&bare).unwrap() - bare.last_vertex_z());
     for (k, py) in [(0, -1.0), (4, 1.0)] {

@@ -55,6 +55,11 @@ pub struct RayFan {
     /// Rays real aiming could not place on the stop (no real ray reaches that
     /// stop point); they are reported as vignetted points.
     pub aim_failures: usize,
+    /// The design's vignetting factors the fans were launched with (the
+    /// nearest design field's), where it has any: px and py are then the
+    /// coordinates before them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vignetting_factors: Option<crate::model::VignettingFactors>,
 }
 
 /// Where rays are evaluated.
@@ -159,5 +164,6 @@ pub fn fan_traced(
         sagittal,
         vignetted: bundle.vignetted(),
         aim_failures: bundle.aim_failures(),
+        vignetting_factors: (!vig.is_none()).then_some(vig),
     })
 }

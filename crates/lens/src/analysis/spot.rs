@@ -59,6 +59,10 @@ pub struct SpotDiagram {
     /// Each hit's share of the pupil (the pattern's weight).
     #[serde(skip)]
     pub weights: Vec<f64>,
+    /// The design's vignetting factors the pattern was launched with (the
+    /// nearest design field's), where it has any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub vignetting_factors: Option<crate::model::VignettingFactors>,
 }
 
 impl SpotDiagram {
@@ -239,6 +243,7 @@ pub fn spot_traced(
         rms_radius_best_focus: 0.0,
         hits,
         weights,
+        vignetting_factors: (!vig.is_none()).then_some(vig),
     };
     let (pp, ps, ss) = st.moments;
     spot.best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };

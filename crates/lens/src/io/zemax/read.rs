@@ -1,8 +1,9 @@
 //! Reading a Zemax sequential lens file (`.zmx`) into our format. What is
 //! read, how, and what is refused: docs/zemax.md.
 
+use super::glass::glass_of;
 use crate::glass::Catalogs;
-use crate::model::{GlassSpec, Prescription, PrescriptionSpec, SurfaceSpec, VignettingFactors};
+use crate::model::{Prescription, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 use crate::paraxial::FirstOrder;
 
 /// A problem with a Zemax file: what, where (1-based line, 0 for the whole
@@ -161,12 +162,12 @@ fn set_fields(f: &File, spec: &mut PrescriptionSpec, catalogs: &Catalogs) -> Res
     Ok(())
 }
 
-fn err(line: usize, message: impl Into<String>) -> ZemaxError {
+pub(super) fn err(line: usize, message: impl Into<String>) -> ZemaxError {
     ZemaxError { line, message: message.into() }
 }
 
 /// A number token of line `line` (`what` names it in the error).
-fn number(tok: Option<&&str>, line: usize, what: &str) -> Result<f64, ZemaxError> {
+pub(super) fn number(tok: Option<&&str>, line: usize, what: &str) -> Result<f64, ZemaxError> {
     let t = tok.ok_or_else(|| err(line, format!("{what}: a number is missing")))?;
     if t.eq_ignore_ascii_case("INFINITY") {
         return Ok(f64::INFINITY);
@@ -347,106 +348,6 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
     Ok(f)
 }
 
-/// The glass after a surface, from its `GLAS` tokens.
-///
-/// A name found only outside the vendors `GCAT` lists (an obsolete SCHOTT
-/// name that another vendor keeps for its equivalent, say) is taken only
-/// where the nd and vd the file records with it are that glass's (nd within
-/// 1e-3, vd within 0.5: the same glass type), and the substitution is noted
-/// in `notes`; where they differ it is another glass of the same name, an
-/// error.
-fn glass_of(
-    b: &Block,
-    gcat: &[String],
-    catalogs: &Catalogs,
-    notes: &mut Vec<String>,
-) -> Result<(Option<GlassSpec>, Option<f64>), ZemaxError> {
-    let Some((tok, line)) = &b.glass else { return Ok((None, None)) };
-    let line = *line;
-    let Some(name) = tok.first() else { return Ok((None, None)) };
-    if name.eq_ignore_ascii_case("MIRROR") {
-        return Err(err(line, format!("surface {}: MIRROR: reflecting surfaces are not supported", b.number)));
-    }
-    let model = tok.get(1).is_some_and(|t| t == "1") || name == "___BLANK";
-    if model {
-        let nd = number(tok.get(3).map(|s| s.as_str()).as_ref(), line, "model glass nd")?;
-        let vd = number(tok.get(4).map(|s| s.as_str()).as_ref(), line, "model glass vd")?;
-        if vd == 0.0 || vd >= super::write::NON_DISPERSIVE_ABBE {
-            // a constant index (as we write one)
-            return Ok((None, Some(nd)));
-        }
-        return Ok((Some(GlassSpec::Model { nd, vd }), None));
-    }
-    for vendor in gcat {
-        if let Ok(g) = catalogs.find(&format!("{vendor}:{name}")) {
-            return Ok((Some(GlassSpec::Name(g.full_name())), None));
-        }
-    }
-    let searched = if gcat.is_empty() { "no vendor (the file has no GCAT)".to_string() } else { gcat.join(", ") };
-    // the nd and vd a design program recorded with the name (0 when it
-    // recorded none)
-    let recorded = |k: usize| tok.get(k).and_then(|t| t.parse::<f64>().ok()).filter(|v| *v > 0.0);
-    match catalogs.find(name) {
-        Ok(g) => {
-            let nd = g.catalog_nd.or_else(|| g.index(crate::glass::LINE_D_NM).ok());
-            let (want_nd, want_vd) = (recorded(3), recorded(4));
-            let differs = match (want_nd, nd) {
-                (Some(w), Some(n)) => (w - n).abs() > 1e-3,
-                _ => false,
-            } || match (want_vd, g.catalog_vd) {
-                (Some(w), Some(v)) => (w - v).abs() > 0.5,
-                _ => false,
-            };
-            let show = |x: Option<f64>| x.map_or_else(|| "?".to_string(), |v| format!("{v}"));
-            if differs {
-                return Err(err(
-                    line,
-                    format!(
-                        "surface {}: glass {name} is not in the catalogues GCAT lists ({searched}); {} has that name but \
-                         nd {} and vd {} where the file records nd {} and vd {}: another glass; give the file's \
-                         catalogue with --glass-catalog",
-                        b.number,
-                        g.full_name(),
-                        show(nd),
-                        show(g.catalog_vd),
-                        show(want_nd),
-                        show(want_vd)
-                    ),
-                ));
-            }
-            notes.push(format!(
-                "surface {}: {name} is not in {searched}; {} is (nd {}, vd {}{})",
-                b.number,
-                g.full_name(),
-                show(nd),
-                show(g.catalog_vd),
-                match (want_nd, want_vd) {
-                    (Some(n), Some(v)) => format!("; the file records {n} and {v}"),
-                    _ => "; the file records no nd and vd to check it by".into(),
-                }
-            ));
-            Ok((Some(GlassSpec::Name(g.full_name())), None))
-        }
-        Err(e) => {
-            // offered, never used unasked
-            let hint = match (recorded(3), recorded(4)) {
-                (Some(nd), Some(vd)) => format!(
-                    "; the file records nd {nd} and vd {vd} for it: to trace a model glass of those, write the line as \
-                     GLAS ___BLANK 1 0 {nd} {vd}"
-                ),
-                _ => String::new(),
-            };
-            Err(err(
-                line,
-                format!(
-                    "surface {}: glass {name} is not in the catalogues GCAT lists ({searched}) nor in any loaded one ({e}); give its AGF catalogue with --glass-catalog{hint}",
-                    b.number,
-                ),
-            ))
-        }
-    }
-}
-
 fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError> {
     let s = f.scale;
     let n = f.blocks.len();
@@ -463,7 +364,10 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
         if !thickness.is_finite() {
             return Err(err(line, format!("surface {}: DISZ INFINITY: only the object may be at infinity", b.number)));
         }
-        let (glass, ior) = glass_of(b, &f.gcat, catalogs, &mut notes)?;
+        let (glass, ior) = match &b.glass {
+            Some((tok, line)) => glass_of(tok, *line, b.number, &f.gcat, catalogs, &mut notes)?,
+            None => (None, None),
+        };
         let kind = b.kind.as_deref().unwrap_or("STANDARD");
         let terms = |odd: bool| -> Option<Vec<f64>> {
             let mut v: Vec<f64> = (1..=8)

@@ -168,7 +168,7 @@ impl Geometry {
     /// The field of chief-ray angle `deg`, degrees.
     fn field(&self, deg: f64) -> Field {
         match self.finite {
-            Some((d, z_ep)) => Field::Height { object_distance: d, height: -(d + z_ep) * deg.to_radians().tan() },
+            Some((d, z_ep)) => Field::from_angle(Some(d), z_ep, deg),
             None => Field::Angle(deg),
         }
     }
@@ -245,7 +245,11 @@ pub fn field_deg_for_image_height(p: &Prescription, height_mm: f64, real: bool) 
 pub fn field_deg_for_object_height(p: &Prescription, height_mm: f64) -> Result<f64, OpticsError> {
     let first = FirstOrder::of(p)?;
     match Geometry::of(p, &first)?.finite {
-        Some((d, z_ep)) if height_mm.is_finite() => Ok((height_mm / (d + z_ep)).atan().to_degrees()),
+        // the object point below the axis (negative height) has the
+        // positive chief-ray angle; the file's height keeps its own sign
+        Some((d, z_ep)) if height_mm.is_finite() => {
+            Ok(Field::Height { object_distance: d, height: -height_mm }.angle_deg(z_ep))
+        }
         Some(_) => {
             Err(OpticsError::BadInput { name: "object height", value: height_mm, expected: "a finite height in mm" })
         }

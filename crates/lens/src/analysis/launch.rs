@@ -32,11 +32,28 @@ impl Field {
     /// the plane d mm in front of the first vertex (as Zemax and optiland
     /// take an angle field with a finite object).
     pub fn at_angle(p: &Prescription, first: &FirstOrder, deg: f64) -> Field {
-        match p.object_distance_mm() {
+        Field::from_angle(p.object_distance_mm(), first.entrance_pupil.z, deg)
+    }
+
+    /// [`Field::at_angle`] for an object `object_distance` mm in front of
+    /// the first vertex (`None`: infinity) and the entrance pupil at `z_ep`.
+    pub(crate) fn from_angle(object_distance: Option<f64>, z_ep: f64, deg: f64) -> Field {
+        match object_distance {
             Some(d) if d.is_finite() && d > 0.0 && deg.is_finite() && deg.abs() < 90.0 => {
-                Field::Height { object_distance: d, height: -(d + first.entrance_pupil.z) * deg.to_radians().tan() }
+                Field::Height { object_distance: d, height: -(d + z_ep) * deg.to_radians().tan() }
             }
             _ => Field::Angle(deg),
+        }
+    }
+
+    /// The chief-ray angle of this field, degrees, the entrance pupil at
+    /// `z_ep`: the angle itself, or for an object point the angle of its
+    /// chief ray to the paraxial entrance pupil's centre (the inverse of
+    /// [`Field::at_angle`]).
+    pub fn angle_deg(&self, z_ep: f64) -> f64 {
+        match *self {
+            Field::Angle(deg) => deg,
+            Field::Height { object_distance, height } => (-height / (object_distance + z_ep)).atan().to_degrees(),
         }
     }
 
@@ -187,12 +204,7 @@ impl Launcher {
     /// an object point the angle of its chief ray to the paraxial entrance
     /// pupil (how a design file's field angles name finite-object fields).
     pub fn field_angle_deg(&self) -> f64 {
-        match self.field {
-            Field::Angle(deg) => deg,
-            Field::Height { object_distance, height } => {
-                (height / (object_distance + self.first.entrance_pupil.z)).atan().to_degrees()
-            }
-        }
+        self.field.angle_deg(self.first.entrance_pupil.z)
     }
 
     /// First-order data of the prescription.

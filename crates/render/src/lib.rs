@@ -12,6 +12,7 @@
 
 pub mod bvh;
 pub mod camera;
+mod companions;
 pub mod envmap;
 pub mod geometry;
 pub mod image;
@@ -29,5 +30,5 @@ pub mod study;
 pub mod transport;
 
 pub use image::Image;
-pub use renderer::{render, Options, Stats};
+pub use renderer::{render, render_with, Companions, Options, Stats};
 pub use scene::Scene;

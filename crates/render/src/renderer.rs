@@ -6,6 +6,7 @@
 #[cfg(doc)]
 use crate::camera::Camera;
 use crate::camera::{CameraSample, SpectralLane};
+use crate::companions;
 use crate::image::Image;
 use crate::integrator::{radiance_with, FirstBounce};
 use crate::rng::{stratified, Sampler};
@@ -74,9 +75,38 @@ const BAND_ROWS: usize = 64;
 /// sampling ([`Camera::rays_spectral`]); with the box filter each
 /// wavelength's light goes to the pixel it lands in (`splat.rs`), rows
 /// rendered in bands whose splats are added in row order, so the image does
-/// not depend on the number of threads. An RGB scene draws
-/// exactly the random numbers it drew before spectra existed.
+/// not depend on the number of threads. Through a real lens the
+/// companions are traced only for the samples bright enough for their
+/// colour to matter (`companions.rs`); the others keep their hero alone.
+/// An RGB scene draws exactly the random numbers it drew before spectra
+/// existed.
 pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) -> (Image, Stats) {
+    render_with(scene, opt, progress, Companions::Auto)
+}
+
+/// Which spectral samples trace their companion wavelengths through a real
+/// lens with glasses (elsewhere they cost nothing and every sample has
+/// them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Companions {
+    /// Those whose radiance, at the brightest of their four wavelengths,
+    /// is at least a threshold set by a pilot (`companions.rs`): what
+    /// [`render`] does.
+    Auto,
+    /// Those whose radiance at the brightest of their wavelengths is at
+    /// least this (0: all of them; infinity: none, every sample keeps its
+    /// hero alone). Any threshold gives the same image in expectation;
+    /// it trades colour noise against time.
+    From(f64),
+}
+
+/// [`render`] with the choice of which samples trace their companions.
+pub fn render_with(
+    scene: &Scene,
+    opt: Options,
+    progress: &(dyn Fn(usize) + Sync),
+    companions: Companions,
+) -> (Image, Stats) {
     let (w, h) = (scene.film.width as usize, scene.film.height as usize);
     let spp = opt.spp.max(1) as usize;
     let strata = (spp as f64).sqrt().floor().max(1.0) as usize;
@@ -90,6 +120,13 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
     let splatting = matches!(scene.colour, ColourMode::Spectral(_))
         && scene.camera.is_dispersive()
         && scene.film.filter == FilterSpec::Box;
+    // through a real lens with glasses, the radiance (at the brightest of
+    // its wavelengths) from which a sample traces its companions
+    // (`companions.rs`)
+    let companions_from = match companions {
+        Companions::Auto => companions::threshold(scene, opt.seed, spp),
+        Companions::From(v) => v,
+    };
     let mut film: Vec<DVec3> = vec![DVec3::ZERO; w * h];
     let band_rows = if splatting { BAND_ROWS } else { h.max(1) };
     for band in (0..h).step_by(band_rows) {
@@ -107,6 +144,9 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                 let (mut light_order, mut bsdf_order) = (Vec::new(), Vec::new());
                 let mut firsts: Vec<FirstBounce> = Vec::with_capacity(samples.capacity());
                 let mut lanes = Vec::new();
+                let mut radiances: Vec<SampledSpectrum> = Vec::new();
+                let mut traced: Vec<bool> = Vec::new();
+                let mut selected: Vec<usize> = Vec::new();
                 for x0 in (0..w).step_by(group) {
                     let xs = x0..(x0 + group).min(w);
                     let mut samplers: Vec<Sampler> =
@@ -147,40 +187,74 @@ pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) ->
                         // a camera whose rays do not depend on wavelength sends
                         // all four along one ray with its plain weight
                         let dispersive = scene.camera.is_dispersive();
+                        let deferred = dispersive && scene.camera.companions_cost_a_trace();
                         if dispersive {
-                            scene.camera.rays_spectral(&samples, &colours, &mut lanes);
+                            scene.camera.heroes(&samples, &colours, &mut lanes);
                         } else {
                             scene.camera.rays(&samples, &mut rays);
                         }
+                        // the paths' radiance first (each sample's wavelengths
+                        // kept with it: the scene may have ended the companions),
+                        // then, through a real lens, the companions of the paths
+                        // bright enough to need them (`companions.rs`)
+                        radiances.clear();
+                        radiances.resize(samples.len(), SampledSpectrum([0.0; N]));
+                        traced.clear();
+                        traced.resize(samples.len(), false);
                         for (i, s) in samplers.iter_mut().enumerate() {
-                            let x = x0 + i;
-                            let mut sum = DVec3::ZERO;
                             for k in i * spp..(i + 1) * spp {
-                                let (ray, lane, weight) = if dispersive {
+                                let ray = if dispersive {
                                     match &lanes[k] {
-                                        Some((ray, lane)) if lane[0].transmission > 0.0 => (*ray, Some(lane), 1.0),
+                                        Some((ray, lane)) if lane[0].transmission > 0.0 => *ray,
                                         _ => continue,
                                     }
                                 } else {
                                     match rays[k] {
-                                        Some((ray, w)) if w > 0.0 => (ray, None, w),
+                                        Some((ray, w)) if w > 0.0 => ray,
                                         _ => continue,
                                     }
                                 };
                                 row_passed += 1;
                                 let mut t = Spectral::new(colours[k]);
-                                let l = radiance_with(scene, ray, &mut t, s, Some(firsts[k]));
-                                sum += match lane {
-                                    Some(lane) => match splats.as_mut() {
-                                        Some(sp) => splat_sample(&t.wavelengths, l, lane, (x, y), sp),
+                                radiances[k] = radiance_with(scene, ray, &mut t, s, Some(firsts[k]));
+                                colours[k] = t.wavelengths;
+                                traced[k] = true;
+                            }
+                        }
+                        if deferred {
+                            selected.clear();
+                            for k in 0..samples.len() {
+                                let wl = &mut colours[k];
+                                if !traced[k] || wl.secondary_terminated() {
+                                    continue;
+                                }
+                                if radiances[k].max_element() >= companions_from {
+                                    selected.push(k);
+                                } else {
+                                    wl.terminate_secondary();
+                                }
+                            }
+                            scene.camera.companions(&colours, &mut lanes, &selected);
+                        }
+                        for i in 0..xs.len() {
+                            let x = x0 + i;
+                            let mut sum = DVec3::ZERO;
+                            for k in (i * spp..(i + 1) * spp).filter(|&k| traced[k]) {
+                                let (wl, l) = (&colours[k], radiances[k]);
+                                sum += if dispersive {
+                                    let Some((_, lane)) = &lanes[k] else { continue };
+                                    match splats.as_mut() {
+                                        Some(sp) => splat_sample(wl, l, lane, (x, y), sp),
                                         None => {
                                             let pixel = |film: (f64, f64)| {
                                                 pixel_density(scene.film.filter, film, (x, y), (w, h))
                                             };
-                                            combine(&t.wavelengths, l, lane, pixel)
+                                            combine(wl, l, lane, pixel)
                                         }
-                                    },
-                                    None => t.wavelengths.xyz(l) * weight,
+                                    }
+                                } else {
+                                    let Some((_, weight)) = rays[k] else { continue };
+                                    wl.xyz(l) * weight
                                 };
                             }
                             row.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));

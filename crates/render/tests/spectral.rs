@@ -11,7 +11,7 @@ use lens::analysis::{fan::ImagePlane, Aim, Field, Launcher};
 use render::camera::Camera;
 use render::scene::format::{SceneFile, SpectralSpec};
 use render::spectrum::{cie, RgbSpectrum};
-use render::{render, Image, Options, Scene};
+use render::{render, render_with, Companions, Image, Options, Scene};
 use std::path::Path;
 
 fn data() -> std::path::PathBuf {
@@ -295,4 +295,45 @@ fn splatted_companions_do_not_depend_on_the_thread_count() {
     assert!(one.pixels.iter().any(|p| p.x > 0.0));
     let bits = |img: &Image| img.pixels.iter().flat_map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>();
     assert_eq!(bits(&one), bits(&four));
+}
+
+/// Through a real lens a sample traces its companion wavelengths only when
+/// its radiance, at the brightest of its four, reaches a threshold; the
+/// others keep their hero alone. The choice depends only on what the four
+/// share, so every threshold gives the same image in expectation: the
+/// singlet's defocused white lamp (radiance varying with wavelength as D65
+/// does) with companions for every sample, for none, and from a threshold
+/// inside the lamp's own range (so that the choice falls differently for
+/// different wavelengths drawn) has the same light in each channel and the
+/// same blur radius in each, within 1%.
+#[test]
+fn tracing_companions_for_bright_samples_only_keeps_the_image() {
+    let cam = r#"{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "../singlet-n-bk7-100mm.json",
+                  "focus_distance": 2.0, "sensor_mm": [4.0, 4.0]}"#;
+    let s = lamp_scene(cam, DVec3::new(0.0, 0.0, 1.0), 0.003, (96, 96), "");
+    let channel = |img: &Image, c: usize| Image {
+        width: img.width,
+        height: img.height,
+        pixels: img.pixels.iter().map(|p| DVec3::splat(p[c])).collect(),
+    };
+    let stats = |from: f64, seed: u64| {
+        let (img, _) = render_with(&s, Options { spp: 1024, seed }, &|_| {}, Companions::From(from));
+        (0..3)
+            .map(|c| {
+                let ch = channel(&img, c);
+                let total: f64 = ch.pixels.iter().map(|p| p.x).sum();
+                let (_, _, rms) = moments(&ch);
+                (total, rms)
+            })
+            .collect::<Vec<_>>()
+    };
+    let all = stats(0.0, 11);
+    for (name, from, seed) in [("none", f64::INFINITY, 12), ("from 1050", 1050.0, 13)] {
+        let other = stats(from, seed);
+        for c in 0..3 {
+            let (t, r) = (other[c].0 / all[c].0 - 1.0, other[c].1 / all[c].1 - 1.0);
+            eprintln!("{name}, channel {c}: light {:+.3}%, RMS radius {:+.3}%", 100.0 * t, 100.0 * r);
+            assert!(t.abs() < 0.01 && r.abs() < 0.01, "{name}, channel {c}: light {t:+.4}, radius {r:+.4}");
+        }
+    }
 }

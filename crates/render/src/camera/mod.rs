@@ -378,6 +378,44 @@ impl Camera {
         }
     }
 
+    /// Whether [`Self::rays_spectral`]'s companions cost a trace of their
+    /// own (a real lens with glasses), so that a render may ask for them
+    /// only where it needs them: [`Self::heroes`], then
+    /// [`Self::companions`].
+    pub fn companions_cost_a_trace(&self) -> bool {
+        matches!(self, Camera::Real(c) if c.prescription().is_dispersive())
+    }
+
+    /// The heroes of [`Self::rays_spectral`] (the companions' lanes
+    /// blocked) where [`Self::companions_cost_a_trace`]; otherwise all of
+    /// it.
+    pub fn heroes(
+        &self,
+        samples: &[CameraSample],
+        wavelengths: &[SampledWavelengths],
+        out: &mut Vec<Option<(Ray, [SpectralLane; N])>>,
+    ) {
+        match self {
+            Camera::Real(c) if c.prescription().is_dispersive() => c.heroes(samples, out),
+            _ => self.rays_spectral(samples, wavelengths, out),
+        }
+    }
+
+    /// The companions' lanes of the samples `selected`, after
+    /// [`Self::heroes`] (nothing to do where they came with the heroes).
+    pub fn companions(
+        &self,
+        wavelengths: &[SampledWavelengths],
+        out: &mut [Option<(Ray, [SpectralLane; N])>],
+        selected: &[usize],
+    ) {
+        if let Camera::Real(c) = self {
+            if c.prescription().is_dispersive() {
+                c.companions(wavelengths, out, selected);
+            }
+        }
+    }
+
     /// The camera rays of a batch of samples, with their weights (`None`
     /// where the lens blocks the ray): a real lens traces them all as one
     /// batch through the lens crate's batch tracer.

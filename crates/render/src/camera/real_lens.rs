@@ -290,23 +290,28 @@ impl RealLensCamera {
     /// Scene rays for samples that carry four wavelengths each (the hero,
     /// `samples[k].wavelength_nm`, and `wavelengths[k].nm[1..]`), with
     /// what each wavelength needs for the render's combination of them
-    /// ([`SpectralLane`]): the hero's ray is traced film to scene; then the
-    /// scene ray is traced back, scene to film, at each companion
-    /// wavelength, finding the film point and rear-plane target that send
-    /// light of that wavelength along the same scene ray.
+    /// ([`SpectralLane`]): the hero's ray is traced film to scene
+    /// ([`Self::heroes`]); then the scene ray is traced back, scene to
+    /// film, at each companion wavelength ([`Self::companions`]).
     pub fn rays_spectral(
         &self,
         samples: &[CameraSample],
         wavelengths: &[SampledWavelengths],
         out: &mut Vec<Option<(Ray, [SpectralLane; N])>>,
     ) {
+        self.heroes(samples, out);
+        let all: Vec<usize> = (0..samples.len()).collect();
+        self.companions(wavelengths, out, &all);
+    }
+
+    /// The heroes of [`Self::rays_spectral`]: each sample's scene ray at
+    /// its own wavelength with its lane (the companions' lanes blocked
+    /// until [`Self::companions`] fills them).
+    pub fn heroes(&self, samples: &[CameraSample], out: &mut Vec<Option<(Ray, [SpectralLane; N])>>) {
         out.clear();
         out.resize(samples.len(), None);
         let f = &self.frame;
         let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
-        // the heroes, and each passing one's scene ray in the lens frame
-        let mut back = SpectralBatch::with_capacity(3 * samples.len());
-        let mut owner = Vec::with_capacity(3 * samples.len());
         self.lens_rays(samples, |k, b, i, t, w| {
             let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
             let dir = to_world(b.dx[i], b.dy[i], -b.dz[i]);
@@ -314,14 +319,37 @@ impl RealLensCamera {
             let mut lanes = [SpectralLane::BLOCKED; N];
             lanes[0] = hero;
             out[k] = Some((Ray { origin, dir }, lanes));
+        });
+    }
+
+    /// The companions' lanes of the samples `selected` (indices into
+    /// `out`, as [`Self::heroes`] left it): each scene ray traced back,
+    /// scene to film, at each companion wavelength, finding the film point
+    /// and rear-plane target that send light of that wavelength along the
+    /// same scene ray.
+    pub fn companions(
+        &self,
+        wavelengths: &[SampledWavelengths],
+        out: &mut [Option<(Ray, [SpectralLane; N])>],
+        selected: &[usize],
+    ) {
+        let f = &self.frame;
+        let mut back = SpectralBatch::with_capacity(3 * selected.len());
+        let mut owner = Vec::with_capacity(3 * selected.len());
+        for &k in selected {
+            let Some((ray, _)) = &out[k] else { continue };
+            // the scene ray in the lens frame (x right, y up, z from the
+            // first vertex toward the film), mm
+            let v = (ray.origin - f.origin) * 1e3;
+            let p = DVec3::new(v.dot(f.right), v.dot(f.up), self.z_film - v.dot(f.forward));
+            let d = DVec3::new(ray.dir.dot(f.right), ray.dir.dot(f.up), -ray.dir.dot(f.forward));
             // into the lens from a millimetre in front of where it left
-            let d = DVec3::new(b.dx[i], b.dy[i], b.dz[i]);
-            let start = DVec3::new(b.x[i], b.y[i], b.z[i]) + d;
+            let start = p + d;
             for (j, nm) in wavelengths[k].nm.iter().enumerate().skip(1) {
                 back.push(lens::Ray { origin: start, direction: -d }, *nm);
                 owner.push((k, j));
             }
-        });
+        }
         let mut t = Vec::new();
         let shape = |x: f64, y: f64| self.aperture.transmission(x / self.stop_sd, y / self.stop_sd);
         self.back.trace(&mut back, true, &mut t, shape);

@@ -43,6 +43,8 @@ const SEGMENTS: usize = 1024;
 pub struct WavelengthRange {
     /// Wavelength at CDF value k / 1024, k = 0..=1024.
     nm: Arc<[f64]>,
+    /// The density over step k, 1/nm: 1 / (1024 (nm[k + 1] - nm[k])).
+    pdf: Arc<[f64]>,
 }
 
 impl WavelengthRange {
@@ -70,7 +72,8 @@ impl WavelengthRange {
                 (at(i - 1) + f * (at(i) - at(i - 1))).clamp(lo, hi)
             })
             .collect::<Vec<f64>>();
-        WavelengthRange { nm: nm.into() }
+        let pdf: Vec<f64> = nm.windows(2).map(|p| 1.0 / (SEGMENTS as f64 * (p[1] - p[0]))).collect();
+        WavelengthRange { nm: nm.into(), pdf: pdf.into() }
     }
 
     /// The range, nm.
@@ -84,7 +87,7 @@ impl WavelengthRange {
         let x = u.clamp(0.0, 1.0) * SEGMENTS as f64;
         let k = (x as usize).min(SEGMENTS - 1);
         let (a, b) = (self.nm[k], self.nm[k + 1]);
-        (a + (x - k as f64) * (b - a), 1.0 / (SEGMENTS as f64 * (b - a)))
+        (a + (x - k as f64) * (b - a), self.pdf[k])
     }
 
     /// The density of [`Self::sample`] at `nm`, 1/nm (0 outside the range).
@@ -93,7 +96,7 @@ impl WavelengthRange {
             return 0.0;
         }
         let k = self.nm.partition_point(|x| *x <= nm).clamp(1, SEGMENTS) - 1;
-        1.0 / (SEGMENTS as f64 * (self.nm[k + 1] - self.nm[k]))
+        self.pdf[k]
     }
 
     /// A hero and three companions from the uniform `u`: the companions at
@@ -103,7 +106,9 @@ impl WavelengthRange {
         let mut nm = [0.0; N];
         let mut pdf = [0.0; N];
         for j in 0..N {
-            (nm[j], pdf[j]) = self.sample((u + j as f64 / N as f64).fract());
+            // (u + j / N).fract() for u in [0, 1), without a call
+            let v = u + j as f64 / N as f64;
+            (nm[j], pdf[j]) = self.sample(if v >= 1.0 { v - 1.0 } else { v });
         }
         SampledWavelengths { nm, pdf, terminated: false }
     }

@@ -1,0 +1,110 @@
+//! Which spectral samples trace their companion wavelengths through a real
+//! lens.
+//!
+//! Through a dispersive lens each companion wavelength of a sample costs a
+//! trace of its own: the scene ray traced back to the film at that
+//! wavelength (`Camera::companions`), three a sample, where the hero's
+//! trace is one. The render asks for them only for the samples whose
+//! radiance is bright enough for their colour to matter; the others keep
+//! their hero alone, its value over its density (as where a dispersive
+//! material ends the companions). This is unbiased: which samples keep
+//! their companions depends only on what a sample's four wavelengths share
+//! (its scene path and the radiance it carries at all four, not on which
+//! of them is the hero), so the weights with which each wavelength of a
+//! path is counted still sum to one over the four ways of drawing it
+//! (docs/rendering.md gives the estimator).
+//!
+//! The threshold trades the colour noise a lone hero adds (about its own
+//! luminance squared, a wavelength alone being a saturated colour) against
+//! the time its companions cost: a sample keeps them when its luminance Y
+//! satisfies Y² ≥ σ² r, with σ² the variance of one sample's luminance
+//! estimate in a pixel (the noise the render has anyway) and r the
+//! companions' cost relative to a whole sample. σ² comes from a pilot: a
+//! sparse grid of pixels rendered with their own random streams, so the
+//! threshold does not depend on the render's samples and the render stays
+//! unbiased and deterministic.
+
+use crate::camera::CameraSample;
+use crate::integrator::radiance_with;
+use crate::rng::Sampler;
+use crate::scene::{ColourMode, Scene};
+use crate::spectrum::SampledWavelengths;
+use crate::transport::Spectral;
+use rayon::prelude::*;
+
+/// Samples per pilot pixel.
+const PILOT_SPP: usize = 16;
+
+/// The pilot's share of the render's samples, at most.
+const PILOT_SHARE: f64 = 1.0 / 128.0;
+
+/// Pilot pixels, at least (fewer where the image has fewer).
+const PILOT_MIN_PIXELS: usize = 64;
+
+/// The companions' cost relative to a whole sample, for the threshold: three
+/// lens traces against one lens trace and a scene path (about 0.6 on the
+/// double Gauss bokeh scene, less where the scene costs more; the render's
+/// error is flat within a factor of ten of the threshold there).
+const COMPANION_COST: f64 = 0.5;
+
+/// Stream offset of the pilot's random numbers (apart from every pixel's).
+const PILOT_STREAM: u64 = 0x5eed_9110_7000_0000;
+
+/// The luminance (Y, radiance units) from which a sample of a render of
+/// `scene` at `spp` samples a pixel with seed `seed` traces its
+/// companions: 0 (all of them) where companions cost no trace of their own
+/// (no real lens with glasses, or an RGB render).
+pub(crate) fn threshold(scene: &Scene, seed: u64, spp: usize) -> f64 {
+    let ColourMode::Spectral(range) = &scene.colour else { return 0.0 };
+    if !scene.camera.companions_cost_a_trace() {
+        return 0.0;
+    }
+    let (w, h) = (scene.film.width as usize, scene.film.height as usize);
+    // a grid of pixels, every `stride`th in each direction: about
+    // PILOT_SHARE of the render's samples
+    let budget = (w * h) as f64 * spp as f64 * PILOT_SHARE / PILOT_SPP as f64;
+    let target = budget.max(PILOT_MIN_PIXELS as f64).min((w * h) as f64);
+    let stride = (((w * h) as f64 / target).sqrt().floor() as usize).max(1);
+    let pixels: Vec<(usize, usize)> =
+        (stride / 2..h).step_by(stride).flat_map(|y| (stride / 2..w).step_by(stride).map(move |x| (x, y))).collect();
+    let variances: Vec<f64> = pixels
+        .par_iter()
+        .map(|&(x, y)| {
+            let mut s = Sampler::new(seed ^ PILOT_STREAM, (y * w + x) as u64);
+            let mut samples = Vec::with_capacity(PILOT_SPP);
+            let mut colours: Vec<SampledWavelengths> = Vec::with_capacity(PILOT_SPP);
+            for _ in 0..PILOT_SPP {
+                let (jx, jy) = s.next2();
+                let wl = range.sample_four(s.uniform());
+                let mut sample = CameraSample::new(((x as f64 + jx) / w as f64, (y as f64 + jy) / h as f64), s.next2());
+                sample.wavelength_nm = Some(wl.hero());
+                samples.push(sample);
+                colours.push(wl);
+            }
+            let mut lanes = Vec::new();
+            scene.camera.heroes(&samples, &colours, &mut lanes);
+            let ys: Vec<f64> = lanes
+                .iter()
+                .zip(&colours)
+                .map(|(lane, wl)| match lane {
+                    Some((ray, lane)) if lane[0].transmission > 0.0 && lane[0].density > 0.0 => {
+                        let mut t = Spectral::new(*wl);
+                        let l = radiance_with(scene, *ray, &mut t, &mut s, None);
+                        l.max_element() * lane[0].transmission / lane[0].density
+                    }
+                    _ => 0.0,
+                })
+                .collect();
+            let n = ys.len() as f64;
+            let mean = ys.iter().sum::<f64>() / n;
+            ys.iter().map(|y| (y - mean) * (y - mean)).sum::<f64>() / (n - 1.0)
+        })
+        .collect();
+    let sigma2 = variances.iter().sum::<f64>() / variances.len().max(1) as f64;
+    let tau = (sigma2 * COMPANION_COST).sqrt();
+    if tau.is_finite() {
+        tau
+    } else {
+        0.0
+    }
+}

@@ -108,3 +108,36 @@ pub(crate) fn threshold(scene: &Scene, seed: u64, spp: usize) -> f64 {
         0.0
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn shipped(name: &str) -> Scene {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/scenes");
+        Scene::load(&dir.join(name)).unwrap()
+    }
+
+    /// On the shipped bokeh scene (lamps of radiance 34-60 seen through the
+    /// double Gauss, a card and background that send under 0.1) the pilot
+    /// puts the threshold between the two: the samples that see a lamp
+    /// trace their companions, the rest keep their hero; the same for
+    /// another seed. An RGB render and a camera whose companions cost
+    /// nothing get 0 (every sample keeps all four).
+    #[test]
+    fn the_pilot_puts_the_threshold_between_the_lamps_and_the_rest() {
+        let bokeh = shipped("bokeh-double-gauss.json");
+        assert!(matches!(bokeh.colour, ColourMode::Spectral(_)));
+        for seed in [1, 2] {
+            let tau = threshold(&bokeh, seed, 64);
+            assert!(tau > 0.1 && tau < 30.0, "seed {seed}: threshold {tau}");
+        }
+        let mut rgb = shipped("bokeh-double-gauss.json");
+        rgb.colour = ColourMode::Rgb;
+        assert_eq!(threshold(&rgb, 1, 64), 0.0);
+        let thin = shipped("bokeh-thin-glass.json");
+        assert!(matches!(thin.colour, ColourMode::Spectral(_)) && thin.camera.is_dispersive());
+        assert_eq!(threshold(&thin, 1, 64), 0.0);
+    }
+}

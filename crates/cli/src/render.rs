@@ -2,7 +2,7 @@
 
 use crate::outputs::{self, Output};
 use crate::CmdResult;
-use ::render::scene::format::SpectralSpec;
+use ::render::scene::format::{CompanionsSpec, SpectralSpec};
 use ::render::scene::{CameraKind, ColourMode};
 use ::render::{render, Options, Scene};
 use std::path::PathBuf;
@@ -33,6 +33,13 @@ pub struct Args {
     /// Render one wavelength only, nm: a grey image of the radiance there.
     #[arg(long, value_name = "NM")]
     wavelength_nm: Option<f64>,
+    /// Through a real lens with glasses, which spectral samples trace their
+    /// companion wavelengths (a lens trace each): auto (those bright
+    /// enough for their colour to matter; faster where highlights
+    /// dominate, more colour noise in dim regions) or all. Default: the
+    /// scene's (auto).
+    #[arg(long, value_enum)]
+    companions: Option<CompanionsFlag>,
     /// Film width, pixels (overrides the scene's).
     #[arg(long)]
     width: Option<u32>,
@@ -94,6 +101,13 @@ enum SpectralFlag {
     Auto,
     On,
     Off,
+}
+
+/// `--companions` values.
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum CompanionsFlag {
+    Auto,
+    All,
 }
 
 /// The most samples per pixel a render takes (a report renders up to four
@@ -159,6 +173,11 @@ pub fn run(a: Args) -> CmdResult {
             None => scene.film.spectral,
         };
         scene.set_colour(spectral, a.wavelength_nm.or(scene.film.wavelength_nm))?;
+    }
+    match a.companions {
+        Some(CompanionsFlag::Auto) => scene.film.companions = CompanionsSpec::Auto,
+        Some(CompanionsFlag::All) => scene.film.companions = CompanionsSpec::All,
+        None => {}
     }
     let spp = a.spp.unwrap_or(scene.film.spp);
     if spp == 0 {

@@ -10,7 +10,7 @@ use crate::companions;
 use crate::image::Image;
 use crate::integrator::{radiance_with, FirstBounce};
 use crate::rng::{stratified, Sampler};
-use crate::scene::format::FilterSpec;
+use crate::scene::format::{CompanionsSpec, FilterSpec};
 use crate::scene::{ColourMode, Scene};
 use crate::spectrum::sampled::N;
 use crate::spectrum::{cie, SampledSpectrum, SampledWavelengths};
@@ -81,17 +81,20 @@ const BAND_ROWS: usize = 64;
 /// An RGB scene draws exactly the random numbers it drew before spectra
 /// existed.
 pub fn render(scene: &Scene, opt: Options, progress: &(dyn Fn(usize) + Sync)) -> (Image, Stats) {
-    render_with(scene, opt, progress, Companions::Auto)
+    let companions = match scene.film.companions {
+        CompanionsSpec::Auto => Companions::Auto,
+        CompanionsSpec::All => Companions::From(0.0),
+    };
+    render_with(scene, opt, progress, companions)
 }
 
 /// Which spectral samples trace their companion wavelengths through a real
 /// lens with glasses (elsewhere they cost nothing and every sample has
-/// them).
+/// them). [`render`] takes the scene's choice (`film.companions`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Companions {
     /// Those whose radiance, at the brightest of their four wavelengths,
-    /// is at least a threshold set by a pilot (`companions.rs`): what
-    /// [`render`] does.
+    /// is at least a threshold set by a pilot (`companions.rs`).
     Auto,
     /// Those whose radiance at the brightest of their wavelengths is at
     /// least this (0: all of them; infinity: none, every sample keeps its

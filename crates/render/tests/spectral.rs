@@ -337,3 +337,18 @@ fn tracing_companions_for_bright_samples_only_keeps_the_image() {
         }
     }
 }
+
+/// `film.companions: "all"` traces every sample's companions: the render is
+/// the one with a threshold of 0, to the bit, and with `"auto"` (the
+/// default) the one with the pilot's threshold.
+#[test]
+fn the_film_chooses_which_samples_trace_companions() {
+    let cam = r#"{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "../singlet-n-bk7-100mm.json",
+                  "focus_distance": 2.0, "sensor_mm": [4.0, 4.0]}"#;
+    let opt = Options { spp: 8, seed: 3 };
+    let bits = |img: &Image| img.pixels.iter().flat_map(|p| p.to_array().map(f64::to_bits)).collect::<Vec<_>>();
+    let all = lamp_scene(cam, DVec3::new(0.0, 0.0, 1.0), 0.003, (32, 32), r#", "companions": "all""#);
+    assert_eq!(bits(&render(&all, opt, &|_| {}).0), bits(&render_with(&all, opt, &|_| {}, Companions::From(0.0)).0));
+    let auto = lamp_scene(cam, DVec3::new(0.0, 0.0, 1.0), 0.003, (32, 32), "");
+    assert_eq!(bits(&render(&auto, opt, &|_| {}).0), bits(&render_with(&auto, opt, &|_| {}, Companions::Auto).0));
+}

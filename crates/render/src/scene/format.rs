@@ -208,6 +208,24 @@ pub struct FilmSpec {
     /// the lens's image at a spectral line.
     #[serde(default)]
     pub wavelength_nm: Option<f64>,
+    /// Which spectral samples trace their companion wavelengths through a
+    /// real lens with glasses.
+    #[serde(default)]
+    pub companions: CompanionsSpec,
+}
+
+/// Which spectral samples trace their companion wavelengths through a real
+/// lens with glasses (each costs a lens trace; docs/rendering.md).
+#[derive(Debug, Clone, Copy, Deserialize, Default, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum CompanionsSpec {
+    /// Those bright enough for their colour to matter (a pilot sets the
+    /// threshold); the others keep their hero alone: faster where bright
+    /// highlights dominate, with more colour noise in dim regions.
+    #[default]
+    Auto,
+    /// Every sample: the least colour noise, the most lens traces.
+    All,
 }
 
 /// When a render carries wavelengths.

@@ -25,7 +25,8 @@
 //! brightness, which the RMSE ignores. σ² comes from a pilot: a sparse
 //! grid of pixels rendered with their own random streams, so the threshold
 //! does not depend on the render's samples and the render stays unbiased
-//! and deterministic.
+//! and deterministic. `film.companions: all` (`lens render --companions
+//! all`) traces every sample's companions instead.
 
 use crate::camera::CameraSample;
 use crate::integrator::radiance_with;
@@ -64,10 +65,11 @@ const COLOUR_NOISE_WEIGHT: f64 = 30.0;
 /// Stream offset of the pilot's random numbers (apart from every pixel's).
 const PILOT_STREAM: u64 = 0x5eed_9110_7000_0000;
 
-/// The luminance (Y, radiance units) from which a sample of a render of
-/// `scene` at `spp` samples a pixel with seed `seed` traces its
-/// companions: 0 (all of them) where companions cost no trace of their own
-/// (no real lens with glasses, or an RGB render).
+/// The radiance (at a sample's brightest wavelength) from which a sample
+/// of a render of `scene` at `spp` samples a pixel with seed `seed` traces
+/// its companions: 0 (all of them) where companions cost no trace of their
+/// own (no real lens with glasses, or an RGB render). A scene whose film
+/// asks for every companion (`film.companions: all`) does not call this.
 pub(crate) fn threshold(scene: &Scene, seed: u64, spp: usize) -> f64 {
     let ColourMode::Spectral(range) = &scene.colour else { return 0.0 };
     if !scene.camera.companions_cost_a_trace() {

@@ -275,16 +275,30 @@ impl RealLensCamera {
     pub fn rays(&self, samples: &[CameraSample], out: &mut Vec<Option<(Ray, f64)>>) {
         out.clear();
         out.resize(samples.len(), None);
-        let f = &self.frame;
         let inv_norm = 1.0 / self.norm;
-        // lens frame: x = right, y = up, z = against the viewing direction
-        let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
         self.lens_rays(samples, |k, b, i, t, w| {
-            let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
-            // a rotation of a unit vector: unit already
-            let dir = to_world(b.dx[i], b.dy[i], -b.dz[i]);
-            out[k] = Some((Ray { origin, dir }, t * w * inv_norm));
+            out[k] = Some((self.to_scene(b, i), t * w * inv_norm));
         });
+    }
+
+    /// Ray `i` of `b` (lens frame, mm: x right, y up, z from the first
+    /// vertex toward the film) as a scene ray (m). A rotation of a unit
+    /// direction: unit already.
+    fn to_scene(&self, b: &RayBatch, i: usize) -> Ray {
+        let f = &self.frame;
+        let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
+        let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
+        Ray { origin, dir: to_world(b.dx[i], b.dy[i], -b.dz[i]) }
+    }
+
+    /// The inverse of [`Self::to_scene`]: a scene ray's point and direction
+    /// in the lens frame (mm).
+    fn to_lens(&self, ray: &Ray) -> (DVec3, DVec3) {
+        let f = &self.frame;
+        let v = (ray.origin - f.origin) * 1e3;
+        let p = DVec3::new(v.dot(f.right), v.dot(f.up), self.z_film - v.dot(f.forward));
+        let d = DVec3::new(ray.dir.dot(f.right), ray.dir.dot(f.up), -ray.dir.dot(f.forward));
+        (p, d)
     }
 
     /// Scene rays for samples that carry four wavelengths each (the hero,
@@ -310,15 +324,11 @@ impl RealLensCamera {
     pub fn heroes(&self, samples: &[CameraSample], out: &mut Vec<Option<(Ray, [SpectralLane; N])>>) {
         out.clear();
         out.resize(samples.len(), None);
-        let f = &self.frame;
-        let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
         self.lens_rays(samples, |k, b, i, t, w| {
-            let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
-            let dir = to_world(b.dx[i], b.dy[i], -b.dz[i]);
             let hero = SpectralLane { film: samples[k].film, transmission: t, density: self.norm / w };
             let mut lanes = [SpectralLane::BLOCKED; N];
             lanes[0] = hero;
-            out[k] = Some((Ray { origin, dir }, lanes));
+            out[k] = Some((self.to_scene(b, i), lanes));
         });
     }
 
@@ -333,16 +343,11 @@ impl RealLensCamera {
         out: &mut [Option<(Ray, [SpectralLane; N])>],
         selected: &[usize],
     ) {
-        let f = &self.frame;
         let mut back = SpectralBatch::with_capacity(3 * selected.len());
         let mut owner = Vec::with_capacity(3 * selected.len());
         for &k in selected {
             let Some((ray, _)) = &out[k] else { continue };
-            // the scene ray in the lens frame (x right, y up, z from the
-            // first vertex toward the film), mm
-            let v = (ray.origin - f.origin) * 1e3;
-            let p = DVec3::new(v.dot(f.right), v.dot(f.up), self.z_film - v.dot(f.forward));
-            let d = DVec3::new(ray.dir.dot(f.right), ray.dir.dot(f.up), -ray.dir.dot(f.forward));
+            let (p, d) = self.to_lens(ray);
             // into the lens from a millimetre in front of where it left
             let start = p + d;
             for (j, nm) in wavelengths[k].nm.iter().enumerate().skip(1) {

@@ -78,10 +78,12 @@ impl<L: Real> Chain<L> {
 pub(crate) struct AsphereLanes<L> {
     /// Base curvature, 1/mm.
     c: L,
-    /// `1 + k`.
-    k1: L,
     /// `(1 + k) c^2`.
     k1c2: L,
+    /// `(1 + k) c`, and it and `c` halved (the iteration's `G / 2`).
+    k1c: L,
+    half_k1c: L,
+    half_c: L,
     /// `1 + k` of the conic whose root starts the iteration: the surface's
     /// own, or with the r^4 term folded in (`+ 8 a_4 / c^3`, the conic's own
     /// r^4 coefficient being `(1 + k) c^3 / 8`) where that conic spans the
@@ -145,8 +147,10 @@ impl<L: Real> AsphereLanes<L> {
         };
         AsphereLanes {
             c: L::splat(c),
-            k1: L::splat(k1),
             k1c2: L::splat(k1 * c * c),
+            k1c: L::splat(k1 * c),
+            half_k1c: L::splat(0.5 * k1 * c),
+            half_c: L::splat(0.5 * c),
             start_k1: L::splat(start_k1),
             b: Chain::of(&b),
             cc: Chain::of(&cc),
@@ -168,14 +172,22 @@ impl<L: Real> AsphereLanes<L> {
         !self.conic_only
     }
 
+    /// Whether the iteration takes third-order steps (an even asphere with
+    /// terms): the `THIRD` the iteration's functions must be called with.
+    #[inline(always)]
+    pub(crate) fn third_order(&self) -> bool {
+        self.third_order
+    }
+
     /// The polynomial part at `s` = r^2: its sag `P` and `Q = (dP/dr) /
     /// r`. On the axis (r = 0, where x = y = 0 and Q's value does not
     /// matter) an r^1 term's `a_1 / r` is kept finite.
+    /// `THIRD` is [`Self::third_order`] (an even asphere: no odd powers).
     #[inline(always)]
-    fn poly(&self, s: L) -> (L, L) {
+    fn poly<const THIRD: bool>(&self, s: L) -> (L, L) {
         let mut p = self.b.at(s) * s;
         let mut q = self.d.at(s);
-        if self.odd {
+        if !THIRD && self.odd {
             let r = s.sqrt();
             p = r.fma(self.cc.at(s), p);
             q = r.fma(self.e.at(s), q);
@@ -318,15 +330,18 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
 /// `|t| <=` [`ESTIMATE_FROM_MM`] and `100 h^2 |t|^3` (the first part, with a
 /// wide margin for the second) is at most the tolerance: a mild asphere
 /// then needs one step from the conic's root instead of two.
+///
+/// `THIRD` must be [`AsphereLanes::third_order`] (as for the functions
+/// below): a constant, so that each kind of surface gets its own code.
 #[inline(always)]
-pub(crate) fn newton_step<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newton<L>) {
-    let ev = newton_eval(a, d, st);
-    newton_finish(a, st, &ev);
+pub(crate) fn newton_step<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newton<L>) {
+    let ev = newton_eval::<L, THIRD>(a, d, st);
+    newton_finish::<L, THIRD>(st, &ev);
 }
 
 /// What one step of [`newton_step`] evaluates before its division: `G`,
-/// `G'` and (third-order steps) `G''` along the ray, with `Q` and `m` at the
-/// point and whether it lies outside the conic's domain. The batch
+/// `G'` and (third-order steps) `G''` along the ray, each halved, with `Q`
+/// and `m` at the point and whether it lies outside the conic's domain. The batch
 /// evaluates a chunk's vectors first and divides after, so that the
 /// divisions overlap.
 #[derive(Clone, Copy)]
@@ -342,27 +357,26 @@ pub(crate) struct NewtonEval<L> {
 
 /// The part of [`newton_step`] before its division.
 #[inline(always)]
-pub(crate) fn newton_eval<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> NewtonEval<L> {
+pub(crate) fn newton_eval<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> NewtonEval<L> {
     let one = L::splat(1.0);
-    let two = L::splat(2.0);
-    let k1c = a.k1 * a.c;
     let x = st.u.fma(d[0], st.p[0]);
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
     let s = x.fma(x, y * y);
-    let (pp, q) = a.poly(s);
+    let (pp, q) = a.poly::<THIRD>(s);
     let w = z - pp;
-    let m = (-k1c).fma(w, one);
-    // G = c s + w (k1c w - 2); G' = 2 c (r . d) - 2 m w', w' = dz - Q (r . d)
-    let g = a.c.fma(s, w * k1c.fma(w, -two));
+    let m = (-a.k1c).fma(w, one);
+    // G / 2 = c s / 2 + w (k1c w / 2 - 1); G' / 2 = c (r . d) - m w',
+    // w' = dz - Q (r . d)
+    let g = a.half_c.fma(s, w * a.half_k1c.fma(w, -one));
     let rd = x.fma(d[0], y * d[1]);
     let wp = (-q).fma(rd, d[2]);
-    let gp = two * a.c.fma(rd, -(m * wp));
-    let gpp = if a.third_order {
-        // G'' = 2 c rho^2 - 2 m w'' + 2 k1c w'^2, w'' = -(Q rho^2 + V rd^2)
+    let gp = a.c.fma(rd, -(m * wp));
+    let gpp = if THIRD {
+        // G'' / 2 = c rho^2 - m w'' + k1c w'^2, -w'' = Q rho^2 + V rd^2
         let rho2 = d[0].fma(d[0], d[1] * d[1]);
-        let wpp = -q.fma(rho2, a.v.at(s) * rd * rd);
-        two * (a.c.fma(rho2, -(m * wpp)) + k1c * wp * wp)
+        let minus_wpp = q.fma(rho2, a.v.at(s) * rd * rd);
+        (a.k1c * wp).fma(wp, m.fma(minus_wpp, a.c * rho2))
     } else {
         L::splat(0.0)
     };
@@ -372,17 +386,18 @@ pub(crate) fn newton_eval<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L
 /// The part of [`newton_step`] from its division on: the step, the lanes'
 /// verdicts, the state updated.
 #[inline(always)]
-pub(crate) fn newton_finish<L: Real>(a: &AsphereLanes<L>, st: &mut Newton<L>, ev: &NewtonEval<L>) {
+pub(crate) fn newton_finish<L: Real, const THIRD: bool>(st: &mut Newton<L>, ev: &NewtonEval<L>) {
     let one = L::splat(1.0);
     let NewtonEval { g, gp, gpp, q, m, domain } = *ev;
     let tol = L::splat(NEWTON_TOLERANCE_MM);
-    let (du, done_now) = if a.third_order {
+    let (du, done_now) = if THIRD {
         let inv = one / gp;
         let t = g * inv;
-        let h = L::splat(0.5) * gpp * inv;
-        let du = t * h.fma(t, one);
+        let ht = L::splat(0.5) * gpp * inv * t;
+        let du = t.fma(ht, t);
         let at = t.abs();
-        let estimate = (L::splat(100.0) * h * h * at * at * at).le(tol) & at.le(L::splat(ESTIMATE_FROM_MM));
+        // 100 h^2 |t|^3 <= tol
+        let estimate = (ht * ht * at).le(L::splat(NEWTON_TOLERANCE_MM / 100.0)) & at.le(L::splat(ESTIMATE_FROM_MM));
         (du, du.abs().le(tol) | estimate)
     } else {
         let du = g / gp;
@@ -393,8 +408,12 @@ pub(crate) fn newton_finish<L: Real>(a: &AsphereLanes<L>, st: &mut Newton<L>, ev
     let now = active & !bad & done_now;
     let step = active & !bad;
     st.u = L::select(step, st.u - du, st.u);
-    st.q = L::select(step, q, st.q);
-    st.m = L::select(step, m, st.m);
+    if !THIRD {
+        // the normal at the last evaluation (a third-order step's hit
+        // evaluates its own)
+        st.q = L::select(step, q, st.q);
+        st.m = L::select(step, m, st.m);
+    }
     st.missed = L::from_mask(st.missed.is_neg() | (active & bad));
     st.converged = L::from_mask(st.converged.is_neg() | now);
 }
@@ -407,16 +426,16 @@ pub(crate) fn newton_running<L: Real>(st: &Newton<L>) -> bool {
 
 /// The hit after the iteration, with the normal there.
 #[inline(always)]
-pub(crate) fn newton_hit<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> AsphereHit<L> {
+pub(crate) fn newton_hit<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> AsphereHit<L> {
     let x = st.u.fma(d[0], st.p[0]);
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
     // a step the estimate ended may be up to ESTIMATE_FROM_MM long: the
     // normal is evaluated again at the hit (otherwise the last evaluation,
     // at most the tolerance away, is the hit's)
-    let (m, q) = if a.third_order {
-        let (pp, q) = a.poly(x.fma(x, y * y));
-        ((-(a.k1 * a.c)).fma(z - pp, L::splat(1.0)), q)
+    let (m, q) = if THIRD {
+        let (pp, q) = a.poly::<THIRD>(x.fma(x, y * y));
+        ((-a.k1c).fma(z - pp, L::splat(1.0)), q)
     } else {
         (st.m, st.q)
     };
@@ -432,14 +451,25 @@ pub(crate) fn newton_hit<L: Real>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>
 /// left the iteration or [`MAX_NEWTON_STEPS`] were taken.
 #[inline(always)]
 pub(crate) fn meet_asphere<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
+    if a.third_order {
+        meet::<L, true>(a, p, d)
+    } else {
+        meet::<L, false>(a, p, d)
+    }
+}
+
+/// [`meet_asphere`] for a surface whose [`AsphereLanes::third_order`] is
+/// `THIRD`.
+#[inline(always)]
+fn meet<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
     let mut st = newton_start(a, p, d);
     for _ in 0..MAX_NEWTON_STEPS {
         if !newton_running(&st) {
             break;
         }
-        newton_step(a, d, &mut st);
+        newton_step::<L, THIRD>(a, d, &mut st);
     }
-    newton_hit(a, d, &st)
+    newton_hit::<L, THIRD>(a, d, &st)
 }
 
 /// An asphere step: shift into the surface's frame, intersect

@@ -28,9 +28,11 @@ use crate::error::OpticsError;
 #[cfg(target_arch = "x86_64")]
 use crate::simd::avx2::F64x4;
 #[cfg(target_arch = "x86_64")]
+use crate::simd::lanes::Real;
+#[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
-    asphere_carry, conic_root, newton_eval, newton_finish, newton_hit, newton_running, newton_start_from, AsphereLanes,
-    Newton, MAX_NEWTON_STEPS,
+    asphere_carry, conic_root, newton_eval, newton_finish, newton_hit, newton_running, newton_start_from, AsphereHit,
+    AsphereLanes, ConicRoot, Newton, NewtonEval, MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -285,6 +287,8 @@ struct Chunk {
     /// Each step's asphere in the kernel's number type, made once per trace
     /// ([`Chunk::for_tracer`]), `None` for the other steps.
     aspheres: Vec<Option<AsphereLanes<F64x4>>>,
+    /// An asphere step's numbers between its loops.
+    newton: NewtonScratch,
 }
 
 /// A step's verdicts for a chunk, one bit per ray.
@@ -325,6 +329,7 @@ impl Chunk {
             approach,
             alive: 0,
             aspheres: Vec::new(),
+            newton: NewtonScratch::ZERO,
         })
     }
 
@@ -640,11 +645,15 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
 ) {
     let sl = StepLanes::<F64x4>::of(s);
     let n = n.min(VECTORS);
-    let Chunk { live: [a, b], done, status, approach, alive, aspheres } = c;
+    let Chunk { live: [a, b], done, status, approach, alive, aspheres, newton } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     let mut bits = Bits::default();
     if let (ASPHERE, Some(asph)) = (SHAPE, &aspheres[k]) {
-        asphere_chunk::<REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits);
+        if asph.third_order() {
+            asphere_chunk::<REFRACT, PER_RAY, true>(s, &sl, asph, src, dst, n, ix, &mut bits, newton);
+        } else {
+            asphere_chunk::<REFRACT, PER_RAY, false>(s, &sl, asph, src, dst, n, ix, &mut bits, newton);
+        }
     } else {
         if SHAPE != PLANE {
             for (j, to) in approach[..n].iter_mut().enumerate() {
@@ -712,36 +721,113 @@ fn store_out(dst: &mut Rays4, j: usize, out: &StepOut<F64x4>, bits: &mut Bits) {
     bits.inside |= u64::from(v.inside.bits()) << (4 * j);
 }
 
-/// Newton's iteration of one vector, kept between the passes of
-/// [`asphere_chunk`]: what changes (the distance and the two flags) apart
-/// from what does not (the start), so that a pass stores only the former.
+/// Four lanes of `K` numbers, from `from`.
 #[cfg(target_arch = "x86_64")]
-#[derive(Clone, Copy, Default)]
-struct Newton4 {
-    start: [[f64; 4]; 3],
-    iter: [[f64; 4]; 5],
+#[inline(always)]
+fn get_quads<const K: usize>(from: &[[f64; 4]; K]) -> [F64x4; K] {
+    from.map(|v| F64x4::load(&v))
+}
+
+/// Stores `K` vectors of four lanes into `to`.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn put_quads<const K: usize>(to: &mut [[f64; 4]; K], v: [F64x4; K]) {
+    for (t, v) in to.iter_mut().zip(v) {
+        v.store(t);
+    }
+}
+
+/// What [`asphere_chunk`] keeps for each vector between its loops, the
+/// kernel's structs as plain numbers: the conic's root (until the start),
+/// Newton's iteration (what changes between passes), a pass's evaluation
+/// (until its division) and the hit (until the refraction). Only what the
+/// surface's kind of step reads is stored: a third-order step's hit
+/// evaluates its own normal, so neither its state nor its evaluation keeps
+/// `Q` and `m`.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct NewtonScratch {
+    root: [[[f64; 4]; 4]; VECTORS],
+    state: [[[f64; 4]; 5]; VECTORS],
+    eval: [[[f64; 4]; 5]; VECTORS],
+    hit: [[[f64; 4]; 9]; VECTORS],
 }
 
 #[cfg(target_arch = "x86_64")]
-impl Newton4 {
+impl NewtonScratch {
+    const ZERO: NewtonScratch = NewtonScratch {
+        root: [[[0.0; 4]; 4]; VECTORS],
+        state: [[[0.0; 4]; 5]; VECTORS],
+        eval: [[[0.0; 4]; 5]; VECTORS],
+        hit: [[[0.0; 4]; 9]; VECTORS],
+    };
+
     #[inline(always)]
-    fn put(&mut self, n: &Newton<F64x4>) {
-        for (to, v) in self.start.iter_mut().zip(n.p) {
-            v.store(to);
-        }
-        self.put_iter(n);
+    fn put_root(&mut self, j: usize, r: &ConicRoot<F64x4>) {
+        put_quads(&mut self.root[j], [r.qa, r.qc, r.far, r.disc]);
     }
+
     #[inline(always)]
-    fn put_iter(&mut self, n: &Newton<F64x4>) {
-        for (to, v) in self.iter.iter_mut().zip([n.u, n.q, n.m, n.converged, n.missed]) {
-            v.store(to);
+    fn root(&self, j: usize) -> ConicRoot<F64x4> {
+        let [qa, qc, far, disc] = get_quads(&self.root[j]);
+        ConicRoot { qa, qc, far, disc }
+    }
+
+    #[inline(always)]
+    fn put_state<const THIRD: bool>(&mut self, j: usize, n: &Newton<F64x4>) {
+        let to = &mut self.state[j];
+        n.u.store(&mut to[0]);
+        n.converged.store(&mut to[1]);
+        n.missed.store(&mut to[2]);
+        if !THIRD {
+            n.q.store(&mut to[3]);
+            n.m.store(&mut to[4]);
         }
     }
+
+    /// Vector `j`'s iteration, its rays starting at `p`.
     #[inline(always)]
-    fn get(&self) -> Newton<F64x4> {
-        let p = self.start.map(|v| F64x4::load(&v));
-        let [u, q, m, converged, missed] = self.iter.map(|v| F64x4::load(&v));
-        Newton { p, u, q, m, converged, missed }
+    fn state<const THIRD: bool>(&self, j: usize, p: [F64x4; 3]) -> Newton<F64x4> {
+        let from = &self.state[j];
+        let get = |k: usize| F64x4::load(&from[k]);
+        let (q, m) = if THIRD { (F64x4::splat(0.0), F64x4::splat(1.0)) } else { (get(3), get(4)) };
+        Newton { p, u: get(0), q, m, converged: get(1), missed: get(2) }
+    }
+
+    #[inline(always)]
+    fn put_eval<const THIRD: bool>(&mut self, j: usize, e: &NewtonEval<F64x4>) {
+        let to = &mut self.eval[j];
+        e.g.store(&mut to[0]);
+        e.gp.store(&mut to[1]);
+        e.domain.store(&mut to[2]);
+        if THIRD {
+            e.gpp.store(&mut to[3]);
+        } else {
+            e.q.store(&mut to[3]);
+            e.m.store(&mut to[4]);
+        }
+    }
+
+    #[inline(always)]
+    fn eval<const THIRD: bool>(&self, j: usize) -> NewtonEval<F64x4> {
+        let from = &self.eval[j];
+        let get = |k: usize| F64x4::load(&from[k]);
+        let zero = F64x4::splat(0.0);
+        let (gpp, q, m) = if THIRD { (get(3), zero, zero) } else { (zero, get(3), get(4)) };
+        NewtonEval { g: get(0), gp: get(1), gpp, q, m, domain: get(2) }
+    }
+
+    #[inline(always)]
+    fn put_hit(&mut self, j: usize, h: &AsphereHit<F64x4>) {
+        let [nx, ny, nz] = h.n;
+        let (ok, converged) = (F64x4::from_mask(h.ok), F64x4::from_mask(h.converged));
+        put_quads(&mut self.hit[j], [h.t, h.x, h.y, h.z, nx, ny, nz, ok, converged]);
+    }
+
+    #[inline(always)]
+    fn hit(&self, j: usize) -> AsphereHit<F64x4> {
+        let [t, x, y, z, nx, ny, nz, ok, converged] = get_quads(&self.hit[j]);
+        AsphereHit { t, x, y, z, n: [nx, ny, nz], ok: ok.is_neg(), converged: converged.is_neg() }
     }
 }
 
@@ -749,11 +835,19 @@ impl Newton4 {
 /// iteration in lock step, one step for every vector still iterating per
 /// pass over the chunk, so that the vectors' chains of dependent operations
 /// overlap (one vector at a time waits on each division in turn). Each lane
-/// takes the steps the one-ray path takes, so the bits agree.
+/// takes the steps the one-ray path takes, so the bits agree. `THIRD` is
+/// the surface's [`AsphereLanes::third_order`].
+///
+/// Every stage is a loop over the vectors that stores what the next needs
+/// in `nw` (the conic's roots, then the starts; per pass, the evaluations,
+/// then the divisions; the hits, then the refractions): each loop's chain
+/// of dependent operations is short enough to overlap across vectors, as
+/// the sphere's two loops. The vectors still iterating are the bits of one
+/// integer, so that a pass visits only those.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
+fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool>(
     s: &Step,
     sl: &StepLanes<F64x4>,
     a: &AsphereLanes<F64x4>,
@@ -762,56 +856,55 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool>(
     n: usize,
     ix: &ChunkIndices,
     bits: &mut Bits,
+    nw: &mut NewtonScratch,
 ) {
-    let mut st = [Newton4::default(); VECTORS];
-    // the conics' roots first, then the starts: as the sphere's two loops,
-    // so that the square roots and the divisions overlap across vectors
-    let mut roots = [None; VECTORS];
-    for (j, root) in roots[..n].iter_mut().enumerate() {
+    // vector j's rays in the surface's frame
+    let ray = |j: usize| {
         let (p, d, _) = load_rays(src, j);
-        *root = Some(conic_root(a, [p[0], p[1], p[2] - sl.shift], d));
+        ([p[0], p[1], p[2] - sl.shift], d)
+    };
+    for j in 0..n {
+        let (p, d) = ray(j);
+        nw.put_root(j, &conic_root(a, p, d));
     }
-    for (j, (to, root)) in st[..n].iter_mut().zip(&roots).enumerate() {
-        let (p, d, _) = load_rays(src, j);
-        let root = root.expect("every vector has its root");
-        to.put(&newton_start_from(a, [p[0], p[1], p[2] - sl.shift], d, &root));
+    let mut live = 0u64;
+    for j in 0..n {
+        let (p, d) = ray(j);
+        let st = newton_start_from(a, p, d, &nw.root(j));
+        nw.put_state::<THIRD>(j, &st);
+        live |= u64::from(newton_running(&st)) << j;
     }
-    // each pass evaluates the vectors still iterating, then divides: two
-    // loops, so that the divisions overlap across vectors
-    let mut evals = [None; VECTORS];
-    let passes = if a.iterates() { MAX_NEWTON_STEPS } else { 0 };
-    for _ in 0..passes {
-        let mut running = false;
-        for (j, (at, ev)) in st[..n].iter().zip(evals.iter_mut()).enumerate() {
-            let nw = at.get();
-            *ev = newton_running(&nw).then(|| newton_eval(a, load_rays(src, j).1, &nw));
-        }
-        for (at, ev) in st[..n].iter_mut().zip(&evals) {
-            if let Some(ev) = ev {
-                let mut nw = at.get();
-                newton_finish(a, &mut nw, ev);
-                at.put_iter(&nw);
-                // another pass only if this vector still iterates
-                running |= newton_running(&nw);
-            }
-        }
-        if !running {
+    if !a.iterates() {
+        live = 0;
+    }
+    for _ in 0..MAX_NEWTON_STEPS {
+        if live == 0 {
             break;
         }
+        for j in ones(live) {
+            let (p, d) = ray(j);
+            let ev = newton_eval::<F64x4, THIRD>(a, d, &nw.state::<THIRD>(j, p));
+            nw.put_eval::<THIRD>(j, &ev);
+        }
+        let mut next = 0u64;
+        for j in ones(live) {
+            let (p, _) = ray(j);
+            let mut st = nw.state::<THIRD>(j, p);
+            newton_finish::<F64x4, THIRD>(&mut st, &nw.eval::<THIRD>(j));
+            nw.put_state::<THIRD>(j, &st);
+            next |= u64::from(newton_running(&st)) << j;
+        }
+        live = next;
     }
-    // the hits first, then refraction: two loops whose chains of dependent
-    // operations are short enough to overlap across vectors (the square
-    // root and the division wait on the normal), as the sphere's two loops
-    let mut hits = [None; VECTORS];
-    for (j, (at, hit)) in st[..n].iter().zip(hits.iter_mut()).enumerate() {
-        let (_, d, _) = load_rays(src, j);
-        *hit = Some(newton_hit(a, d, &at.get()));
+    for j in 0..n {
+        let (p, d) = ray(j);
+        let h = newton_hit::<F64x4, THIRD>(a, d, &nw.state::<THIRD>(j, p));
+        nw.put_hit(j, &h);
     }
-    for (j, hit) in hits[..n].iter().enumerate() {
+    for j in 0..n {
         let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
         let (_, d, opl) = load_rays(src, j);
-        let h = hit.expect("every vector has its hit");
-        store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &h, d, opl), bits);
+        store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &nw.hit(j), d, opl), bits);
     }
 }
 

@@ -48,11 +48,14 @@ impl<L: Real> Chain<L> {
 
     #[inline(always)]
     fn at(&self, s: L) -> L {
-        // short chains (most aspheres) unrolled to a fixed length, the
-        // missing terms zeros: no loop, no branch per term
+        // short chains (most aspheres) unrolled: no loop, no branch per
+        // term (one per chain, the same for every ray of the surface)
         match self.n {
             0 => L::splat(0.0),
-            1..=4 => self.c[3].fma(s, self.c[2]).fma(s, self.c[1]).fma(s, self.c[0]),
+            1 => self.c[0],
+            2 => self.c[1].fma(s, self.c[0]),
+            3 => self.c[2].fma(s, self.c[1]).fma(s, self.c[0]),
+            4 => self.c[3].fma(s, self.c[2]).fma(s, self.c[1]).fma(s, self.c[0]),
             _ => {
                 let mut p = self.c[self.n - 1];
                 for i in (0..self.n - 1).rev() {

@@ -47,6 +47,11 @@ pub(crate) trait Real:
     /// A mask held as a number, negative where true (so that
     /// [`Self::is_neg`] reads it back): for a vector the mask's own bits.
     fn from_mask(m: Self::Mask) -> Self;
+    /// Row `i` of `table` in each lane (the row's numbers as the lane's
+    /// values of the four results), `i` the lane's `at` clamped to
+    /// `0..=table.len() - 1` (NaN to 0) and truncated. `table` must not be
+    /// empty.
+    fn rows(table: &[[f64; 4]], at: Self) -> [Self; 4];
 }
 
 /// Truth values, one per lane.
@@ -126,5 +131,10 @@ impl Real for f64 {
         } else {
             1.0
         }
+    }
+    #[inline(always)]
+    fn rows(table: &[[f64; 4]], at: Self) -> [Self; 4] {
+        // f64::max ignores a NaN; `as` truncates
+        table[at.max(0.0).min((table.len() - 1) as f64) as usize]
     }
 }

@@ -11,6 +11,7 @@
 //! `N = (-g x, -g y, 1)`, `g = (dz/dr) / r`.
 
 use super::step::{refract_lanes, snell_root_unnormalised, Lane, StepLanes, StepOut, Verdict};
+use super::zones::Zones;
 use crate::model::surface::{Asphere, MAX_ASPHERE_POWER};
 use crate::simd::lanes::{Mask, Real};
 
@@ -87,11 +88,16 @@ pub(crate) struct AsphereLanes<L> {
     k1c: L,
     half_k1c: L,
     half_c: L,
-    /// `1 + k` of the conic whose root starts the iteration: the surface's
-    /// own, or with the r^4 term folded in (`+ 8 a_4 / c^3`, the conic's own
-    /// r^4 coefficient being `(1 + k) c^3 / 8`) where that conic spans the
-    /// clear aperture, so that the start is nearer the surface.
-    start_k1: L,
+    /// `k c` and `(1 + k) c` of the conic whose root starts the iteration:
+    /// the surface's own, or with the r^4 term folded in (`+ 8 a_4 / c^3`,
+    /// the conic's own r^4 coefficient being `(1 + k) c^3 / 8`) where that
+    /// conic spans the clear aperture, so that the start is nearer the
+    /// surface.
+    start_kc: L,
+    start_k1c: L,
+    /// The rings' conics, which start the iteration instead where the
+    /// start conic is far from the surface (`zones.rs`).
+    zones: Option<Zones>,
     /// `B(s) = sum_m a_2m s^(m-1)`, `C(s) = sum_m a_(2m+1) s^m`.
     b: Chain<L>,
     cc: Chain<L>,
@@ -154,7 +160,9 @@ impl<L: Real> AsphereLanes<L> {
             k1c: L::splat(k1 * c),
             half_k1c: L::splat(0.5 * k1 * c),
             half_c: L::splat(0.5 * c),
-            start_k1: L::splat(start_k1),
+            start_kc: L::splat((start_k1 - 1.0) * c),
+            start_k1c: L::splat(start_k1 * c),
+            zones: Zones::of(c, asphere, sd2, start_k1 - 1.0),
             b: Chain::of(&b),
             cc: Chain::of(&cc),
             d: Chain::of(&d),
@@ -261,6 +269,9 @@ pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -
 /// first, so that their square roots and divisions overlap).
 #[derive(Clone, Copy)]
 pub(crate) struct ConicRoot<L> {
+    /// The conic's `(1 + k) c`, and `pz` from its vertex.
+    pub k1c: L,
+    pub pz: L,
     /// `A` and `C` of the quadratic.
     pub qa: L,
     pub qc: L,
@@ -274,32 +285,73 @@ pub(crate) struct ConicRoot<L> {
 /// [`ConicRoot`] for the ray `p + t d`.
 #[inline(always)]
 pub(crate) fn conic_root<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
-    let one = L::splat(1.0);
-    let k = a.start_k1 - one;
-    let kc = k * a.c;
-    let qa = a.c * k.fma(d[2] * d[2], one);
+    conic_root_of(&start_conic(a, p, d), p, d)
+}
+
+/// The conic whose root starts the iteration of the ray `p + t d`, per
+/// lane: the surface's start conic, or the ring's (`zones.rs`).
+#[derive(Clone, Copy)]
+pub(crate) struct StartConic<L> {
+    /// Curvature `c`, `k c` and `(1 + k) c` (k the conic constant).
+    pub c: L,
+    pub kc: L,
+    pub k1c: L,
+    /// The ray's `pz` from the conic's vertex.
+    pub pz: L,
+}
+
+/// [`StartConic`] for the ray `p + t d` (the part of [`conic_root`] before
+/// the quadratic: the batch finds a chunk's rings first, so that their
+/// divisions and table reads overlap).
+#[inline(always)]
+pub(crate) fn start_conic<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> StartConic<L> {
+    match &a.zones {
+        None => StartConic { c: a.c, kc: a.start_kc, k1c: a.start_k1c, pz: p[2] },
+        Some(z) => ring_conic(z.of_ray(p, d), p[2]),
+    }
+}
+
+/// The surface's rings, where it starts its rays from their conics.
+#[inline(always)]
+pub(crate) fn zones_of<L: Real>(a: &AsphereLanes<L>) -> Option<&Zones> {
+    a.zones.as_ref()
+}
+
+/// [`StartConic`] from the conic `(c, k c, z0)` of the ray's ring.
+#[inline(always)]
+pub(crate) fn ring_conic<L: Real>((c, kc, z0): (L, L, L), pz: L) -> StartConic<L> {
+    StartConic { c, kc, k1c: kc + c, pz: pz - z0 }
+}
+
+/// [`conic_root`] from the ray's start conic.
+#[inline(always)]
+pub(crate) fn conic_root_of<L: Real>(sc: &StartConic<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
+    let StartConic { c, kc, k1c, pz } = *sc;
+    let qa = kc.fma(d[2] * d[2], c);
     // c (p . d) + k c pz dz - dz
-    let qb = a.c.fma(p[2].fma(d[2], p[0].fma(d[0], p[1] * d[1])), (kc * p[2]).fma(d[2], -d[2]));
+    let qb = c.fma(pz.fma(d[2], p[0].fma(d[0], p[1] * d[1])), (kc * pz).fma(d[2], -d[2]));
     // c |p|^2 + k c pz^2 - 2 pz
-    let qc = a.c.fma(p[2].fma(p[2], p[0].fma(p[0], p[1] * p[1])), (kc * p[2]).fma(p[2], -(p[2] + p[2])));
+    let qc = c.fma(pz.fma(pz, p[0].fma(p[0], p[1] * p[1])), (kc * pz).fma(pz, -(pz + pz)));
     let disc = qb.fma(qb, -(qa * qc));
     let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
-    ConicRoot { qa, qc, far: qb + root.or(qb.sign_bit()), disc }
+    ConicRoot { k1c, pz, qa, qc, far: qb + root.or(qb.sign_bit()), disc }
 }
 
 /// [`newton_start`] from the conic's root `q` ([`conic_root`]).
 #[inline(always)]
 pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3], q: &ConicRoot<L>) -> Newton<L> {
     let one = L::splat(1.0);
-    let ConicRoot { qa, qc, far, disc } = *q;
+    let ConicRoot { k1c, pz, qa, qc, far, disc } = *q;
     let near = -qc / far;
     // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root (the
     // other root is wanted only where the near one is off it: rare, so
     // computed only then; a lane's choice does not depend on the others)
-    let k1c = a.start_k1 * a.c;
-    let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], p[2]), one).le(L::splat(0.0));
+    let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], pz), one).le(L::splat(0.0));
     let near_ok = on_sheet(near);
-    let u = if (!near_ok).any() {
+    // (a surface started from fitted conics, strongly oblate ellipsoids
+    // that a ray may start inside, often wants the other: always computed
+    // there, no branch to mispredict)
+    let u = if a.zones.is_some() || (!near_ok).any() {
         let other = -far / qa;
         L::select(near_ok | !on_sheet(other) | !other.is_finite(), near, other)
     } else {
@@ -309,7 +361,7 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
         // the root is exact (to rounding): done, unless the line misses;
         // the normal needs m there (and Q = 0)
         let met = !disc.is_neg() & u.is_finite();
-        let m = (-k1c).fma(u.fma(d[2], p[2]), one);
+        let m = (-k1c).fma(u.fma(d[2], pz), one);
         return Newton { p, u, q: L::splat(0.0), m, converged: L::from_mask(met), missed: L::from_mask(!met) };
     }
     Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: L::from_mask(!u.is_finite()) }

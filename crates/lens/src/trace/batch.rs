@@ -31,8 +31,9 @@ use crate::simd::avx2::F64x4;
 use crate::simd::lanes::Real;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
-    asphere_carry, conic_root, newton_eval, newton_finish, newton_hit, newton_running, newton_start_from, AsphereHit,
-    AsphereLanes, ConicRoot, Newton, NewtonEval, MAX_NEWTON_STEPS,
+    asphere_carry, conic_root, conic_root_of, newton_eval, newton_finish, newton_hit, newton_running,
+    newton_start_from, ring_conic, zones_of, AsphereHit, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic,
+    MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -725,7 +726,8 @@ fn store_out(dst: &mut Rays4, j: usize, out: &StepOut<F64x4>, bits: &mut Bits) {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn get_quads<const K: usize>(from: &[[f64; 4]; K]) -> [F64x4; K] {
-    from.map(|v| F64x4::load(&v))
+    // by index: `map` would copy the array first
+    std::array::from_fn(|k| F64x4::load(&from[k]))
 }
 
 /// Stores `K` vectors of four lanes into `to`.
@@ -747,7 +749,7 @@ fn put_quads<const K: usize>(to: &mut [[f64; 4]; K], v: [F64x4; K]) {
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct NewtonScratch {
-    root: [[[f64; 4]; 4]; VECTORS],
+    root: [[[f64; 4]; 6]; VECTORS],
     state: [[[f64; 4]; 5]; VECTORS],
     eval: [[[f64; 4]; 5]; VECTORS],
     hit: [[[f64; 4]; 9]; VECTORS],
@@ -756,7 +758,7 @@ struct NewtonScratch {
 #[cfg(target_arch = "x86_64")]
 impl NewtonScratch {
     const ZERO: NewtonScratch = NewtonScratch {
-        root: [[[0.0; 4]; 4]; VECTORS],
+        root: [[[0.0; 4]; 6]; VECTORS],
         state: [[[0.0; 4]; 5]; VECTORS],
         eval: [[[0.0; 4]; 5]; VECTORS],
         hit: [[[0.0; 4]; 9]; VECTORS],
@@ -764,13 +766,13 @@ impl NewtonScratch {
 
     #[inline(always)]
     fn put_root(&mut self, j: usize, r: &ConicRoot<F64x4>) {
-        put_quads(&mut self.root[j], [r.qa, r.qc, r.far, r.disc]);
+        put_quads(&mut self.root[j], [r.k1c, r.pz, r.qa, r.qc, r.far, r.disc]);
     }
 
     #[inline(always)]
     fn root(&self, j: usize) -> ConicRoot<F64x4> {
-        let [qa, qc, far, disc] = get_quads(&self.root[j]);
-        ConicRoot { qa, qc, far, disc }
+        let [k1c, pz, qa, qc, far, disc] = get_quads(&self.root[j]);
+        ConicRoot { k1c, pz, qa, qc, far, disc }
     }
 
     #[inline(always)]
@@ -863,9 +865,29 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool>(
         let (p, d, _) = load_rays(src, j);
         ([p[0], p[1], p[2] - sl.shift], d)
     };
-    for j in 0..n {
-        let (p, d) = ray(j);
-        nw.put_root(j, &conic_root(a, p, d));
+    if let Some(z) = zones_of(a) {
+        // each ray's ring first, then its conic (a table row per lane),
+        // then the roots: short chains a vector instead of one long one
+        for j in 0..n {
+            let (p, d) = ray(j);
+            z.ring(p, d).store(&mut nw.root[j][0]);
+        }
+        for j in 0..n {
+            let (p, _) = ray(j);
+            let sc = ring_conic(z.of_ring(F64x4::load(&nw.root[j][0])), p[2]);
+            let to = &mut nw.root[j];
+            put_quads((&mut to[..4]).try_into().expect("four"), [sc.c, sc.kc, sc.k1c, sc.pz]);
+        }
+        for j in 0..n {
+            let (p, d) = ray(j);
+            let [c, kc, k1c, pz] = get_quads((&nw.root[j][..4]).try_into().expect("four"));
+            nw.put_root(j, &conic_root_of(&StartConic { c, kc, k1c, pz }, p, d));
+        }
+    } else {
+        for j in 0..n {
+            let (p, d) = ray(j);
+            nw.put_root(j, &conic_root(a, p, d));
+        }
     }
     let mut live = 0u64;
     for j in 0..n {

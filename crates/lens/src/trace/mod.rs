@@ -13,6 +13,7 @@ pub mod ray;
 pub mod spectral;
 pub mod step;
 pub mod tracer;
+pub(crate) mod zones;
 
 pub use batch::RayBatch;
 pub use ray::{Outcome, Ray};

@@ -1,0 +1,223 @@
+//! Where Newton's iteration on an asphere starts: the root of a conic near
+//! the surface where the ray meets it.
+//!
+//! A strong even asphere (a camera lens's: an r^4 term that moves the
+//! surface tenths of a millimetre from its base conic at the rim) is too far
+//! from that conic for one Newton step from its root to end within the
+//! tolerance, and every ray takes two. Instead the clear aperture is cut into
+//! [`ZONES`] rings of equal steps in s = r^2, and each ring gets the conic
+//! (with its vertex moved along the axis) that osculates the surface, as a
+//! function of s, at the ring's middle: same sag, dz/ds and d2z/ds2. A ray
+//! starts from the root of the conic of the ring where it crosses the vertex
+//! plane; over the ring, its neighbours and the ray's drift from the plane to
+//! the surface that conic is within about 1e-5 mm of the surface (its error
+//! is the third derivative's), and one third-order step ends the iteration
+//! (docs/architecture.md, Aspheres).
+//!
+//! A ring's conic is a row of a small table (`[c, k c, z0, 0]`), read per
+//! lane. A ring whose conic is not defined over the ring and its neighbours,
+//! or not within [`FIT_MM`] of the surface there, keeps the surface's own
+//! start conic, as does every ring of a surface that its start conic already
+//! fits within [`ZONES_FROM_MM`]. The start only decides how many steps a ray
+//! takes, never where it ends.
+
+use crate::model::surface::Asphere;
+use crate::simd::lanes::Real;
+
+/// Rings of the clear aperture, of equal steps in s = r^2.
+pub(crate) const ZONES: usize = 32;
+
+/// A surface whose start conic is within this of it (mm, over the clear
+/// aperture) starts its rays from that conic: one step from there ends the
+/// iteration already.
+pub const ZONES_FROM_MM: f64 = 1e-4;
+
+/// A ring's conic must be within this of the surface (mm) over the ring and
+/// its two neighbours, or the ring's rays start from the surface's start
+/// conic.
+pub const FIT_MM: f64 = 1e-4;
+
+/// The rings' conics: row `i` is `[c, k c, z0, 0]` of ring `i`'s conic
+/// `c s - 2 w + (1 + k) c w^2 = 0` in `w = z - z0`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Zones {
+    /// `ZONES / sd^2`, 1/mm^2: s times this is a ray's ring (truncated).
+    per_s: f64,
+    rows: [[f64; 4]; ZONES],
+}
+
+/// An even asphere's sag and its first two derivatives in s = r^2.
+struct Sag<'a> {
+    c: f64,
+    k1: f64,
+    asphere: &'a Asphere,
+}
+
+impl Sag<'_> {
+    /// `(z, dz/ds, d2z/ds2)` at `s`, `None` outside the conic's domain.
+    fn at(&self, s: f64) -> Option<[f64; 3]> {
+        let q = 1.0 - self.k1 * self.c * self.c * s;
+        if q.is_nan() || q <= 0.0 {
+            return None;
+        }
+        let m = q.sqrt();
+        let mut z = self.c * s / (1.0 + m);
+        let mut z1 = self.c / (2.0 * m);
+        let mut z2 = self.k1 * self.c.powi(3) / (4.0 * m * m * m);
+        for (i, a) in self.asphere.coefficients.iter().enumerate() {
+            // the term a s^e, e = (i + 1) / 2 (even powers only)
+            if *a == 0.0 {
+                continue;
+            }
+            let e = (i + 1) as f64 / 2.0;
+            z += a * s.powf(e);
+            z1 += a * e * s.powf(e - 1.0);
+            if e >= 2.0 {
+                z2 += a * e * (e - 1.0) * s.powf(e - 2.0);
+            }
+        }
+        Some([z, z1, z2]).filter(|v| v.iter().all(|x| x.is_finite()))
+    }
+}
+
+/// The sag at `s` of the conic of curvature `c` and `k c` = `kc` with its
+/// vertex at `z0`, `None` outside its domain (with a margin: `1 - (1 + k)
+/// c^2 s >= 0.01`).
+fn conic_sag(c: f64, kc: f64, z0: f64, s: f64) -> Option<f64> {
+    let q = 1.0 - (kc + c) * c * s;
+    (q >= 0.01).then(|| z0 + c * s / (1.0 + q.sqrt()))
+}
+
+/// The conic `(c, k c, z0)` that osculates, at `s`, a sag whose value and
+/// derivatives in s there are `[z, z1, z2]`; `None` where none does (a
+/// sag flat in s there, or one whose osculating conic ends at `s`).
+///
+/// With `rho = (1 + k) c^2` and `m = sqrt(1 - rho s)`, the conic has
+/// `dz/ds = c / (2 m)` and `d2z/ds2 = (1 + k) c^3 / (4 m^3)`, so that
+/// `rho = 2 z2 / (z1 + 2 s z2)`, `c = 2 z1 m`, and `z0` puts its sag at `z`.
+fn osculating([z, z1, z2]: [f64; 3], s: f64) -> Option<[f64; 3]> {
+    let rho = 2.0 * z2 / (z1 + 2.0 * s * z2);
+    let q = 1.0 - rho * s;
+    if q.is_nan() || q <= 0.0 || !rho.is_finite() || z1 == 0.0 {
+        return None;
+    }
+    let m = q.sqrt();
+    let c = 2.0 * z1 * m;
+    let kc = rho / c - c;
+    let z0 = z - c * s / (1.0 + m);
+    [c, kc, z0].iter().all(|v| v.is_finite()).then_some([c, kc, z0])
+}
+
+impl Zones {
+    /// The rings of the even asphere `asphere` on a base of curvature `c`
+    /// with clear radius squared `sd2` (mm^2), whose rays would otherwise
+    /// start from the conic of conic constant `start_k` (no vertex shift);
+    /// `None` where that conic fits within [`ZONES_FROM_MM`], where no ring
+    /// has a conic that holds (module docs), the aperture is unbounded, or
+    /// the surface has odd terms.
+    pub(crate) fn of(c: f64, asphere: &Asphere, sd2: f64, start_k: f64) -> Option<Zones> {
+        if !asphere.is_even() || asphere.degree() == 0 || !(sd2 > 0.0 && sd2.is_finite()) {
+            return None;
+        }
+        let sag = Sag { c, k1: 1.0 + asphere.conic, asphere };
+        let start = [c, start_k * c, 0.0, 0.0];
+        let far = (0..=64).map(|i| sd2 * i as f64 / 64.0).any(|s| match (sag.at(s), conic_sag(c, start[1], 0.0, s)) {
+            (Some([z, ..]), Some(zc)) => (z - zc).abs() > ZONES_FROM_MM,
+            _ => true,
+        });
+        if !far {
+            return None;
+        }
+        let width = sd2 / ZONES as f64;
+        let mut zones = Zones { per_s: 1.0 / width, rows: [start; ZONES] };
+        let mut any = false;
+        for (i, row) in zones.rows.iter_mut().enumerate() {
+            let s = (i as f64 + 0.5) * width;
+            let Some([ci, kci, z0]) = sag.at(s).and_then(|d| osculating(d, s)) else {
+                continue;
+            };
+            // the ring and its neighbours
+            let (lo, hi) = ((i as f64 - 1.0).max(0.0) * width, ((i + 2) as f64 * width).min(sd2));
+            let fits = (0..=16).map(|j| lo + (hi - lo) * j as f64 / 16.0).all(|s| {
+                match (sag.at(s), conic_sag(ci, kci, z0, s)) {
+                    (Some([z, ..]), Some(zc)) => (z - zc).abs() <= FIT_MM,
+                    _ => false,
+                }
+            });
+            if fits {
+                *row = [ci, kci, z0, 0.0];
+                any = true;
+            }
+        }
+        any.then_some(zones)
+    }
+
+    /// The conic `(c, k c, z0)` of each lane's ray `p + u d` (the surface's
+    /// frame): that of the ring where the ray crosses the vertex plane, the
+    /// crossing found with `1 / dz` to first order in `dx^2 + dy^2` (no
+    /// division; a steep ray's error only moves it towards a neighbouring
+    /// ring, whose conic fits there too); a ray crossing past the aperture,
+    /// or parallel to the plane, takes the outermost ring.
+    #[inline(always)]
+    pub(crate) fn of_ray<L: Real>(&self, p: [L; 3], d: [L; 3]) -> (L, L, L) {
+        self.of_ring(self.ring(p, d))
+    }
+
+    /// The ring of the ray `p + u d`, as a number whose integer part it is
+    /// (the first part of [`Self::of_ray`]).
+    #[inline(always)]
+    pub(crate) fn ring<L: Real>(&self, p: [L; 3], d: [L; 3]) -> L {
+        let rho2 = d[0].fma(d[0], d[1] * d[1]);
+        // 1 / sqrt(1 - rho2) = 1 + rho2 / 2 + 3 rho2^2 / 8 + ...: the first
+        // two terms (at 25 deg off the axis the crossing moves by 1.2% of
+        // the ray's distance from the plane, a fraction of a ring)
+        let inv_dz = rho2.fma(L::splat(0.5), L::splat(1.0));
+        let t = p[2] * inv_dz;
+        let x = (-t).fma(d[0], p[0]);
+        let y = (-t).fma(d[1], p[1]);
+        x.fma(x, y * y) * L::splat(self.per_s)
+    }
+
+    /// The conic `(c, k c, z0)` of the ring [`Self::ring`] gave.
+    #[inline(always)]
+    pub(crate) fn of_ring<L: Real>(&self, ring: L) -> (L, L, L) {
+        let [c, kc, z0, _] = L::rows(&self.rows, ring);
+        (c, kc, z0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A conic with a vertex shift is its own osculating conic everywhere;
+    /// the fitted conics of the 35 mm f/2's asphere (an r^4 term moving it
+    /// 0.3 mm from its base sphere at the rim) are within 1e-5 mm of the
+    /// surface over a tenth of the aperture around their own point; a mild
+    /// asphere keeps its start conic.
+    #[test]
+    fn fitted_conics_osculate_the_surface() {
+        let conic = Asphere::new(-0.7, &[], &[]).unwrap();
+        let sag = Sag { c: 1.0 / 40.0, k1: 0.3, asphere: &conic };
+        for s in [1.0, 50.0, 300.0] {
+            let [c, kc, z0] = osculating(sag.at(s).unwrap(), s).unwrap();
+            assert!((c - 1.0 / 40.0).abs() < 1e-12 && (kc + 0.7 / 40.0).abs() < 1e-12 && z0.abs() < 1e-12);
+        }
+        let canon = Asphere::new(0.0, &[0.0, -1.49529e-05, 4.91763e-09, -4.11063e-11], &[]).unwrap();
+        let c = 1.0 / -91.82;
+        let sd2 = 11.9f64 * 11.9;
+        let z = Zones::of(c, &canon, sd2, 0.0).expect("the asphere is far from its sphere");
+        let sag = Sag { c, k1: 1.0, asphere: &canon };
+        let w = sd2 / ZONES as f64;
+        for (i, [ci, kci, z0, _]) in z.rows.iter().enumerate() {
+            assert!(*z0 != 0.0, "ring {i} has its own conic");
+            for j in 0..=8 {
+                let s = (i as f64 + j as f64 / 8.0) * w;
+                let zc = conic_sag(*ci, *kci, *z0, s).unwrap();
+                assert!((zc - sag.at(s).unwrap()[0]).abs() < 1e-6, "ring {i} at s {s}");
+            }
+        }
+        let mild = Asphere::new(-0.01, &[0.0, 1e-9, 1e-13], &[]).unwrap();
+        assert!(Zones::of(1.0 / 29.475, &mild, 12.6 * 12.6, -0.01).is_none());
+    }
+}

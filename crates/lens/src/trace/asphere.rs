@@ -285,7 +285,28 @@ pub(crate) struct ConicRoot<L> {
 /// [`ConicRoot`] for the ray `p + t d`.
 #[inline(always)]
 pub(crate) fn conic_root<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
-    conic_root_of(&start_conic(a, p, d), p, d)
+    ring_or_start(a, conic_root_of(&start_conic(a, p, d), p, d), p, d)
+}
+
+/// `ring` (the root of a ray's ring's conic), but the start conic's root
+/// for the lanes whose line misses their ring's conic: a rare ray, for
+/// which the surface's own conic is the surer start.
+#[inline(always)]
+pub(crate) fn ring_or_start<L: Real>(a: &AsphereLanes<L>, ring: ConicRoot<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
+    let missed = ring.disc.is_neg();
+    if a.zones.is_none() || !missed.any() {
+        return ring;
+    }
+    let own = conic_root_of(&StartConic { c: a.c, kc: a.start_kc, k1c: a.start_k1c, pz: p[2] }, p, d);
+    let pick = |r: L, o: L| L::select(missed, o, r);
+    ConicRoot {
+        k1c: pick(ring.k1c, own.k1c),
+        pz: pick(ring.pz, own.pz),
+        qa: pick(ring.qa, own.qa),
+        qc: pick(ring.qc, own.qc),
+        far: pick(ring.far, own.far),
+        disc: pick(ring.disc, own.disc),
+    }
 }
 
 /// The conic whose root starts the iteration of the ray `p + t d`, per
@@ -693,6 +714,26 @@ mod tests {
         }
         assert_eq!(one_ringed, rays, "rays taking one step from the rings");
         assert!(one_plain < rays / 10, "{one_plain} of {rays} took one step from the sphere");
+        // a ray far outside the aperture misses the outermost ring's conic
+        // (an ellipsoid 17 mm across): it starts from the sphere's root, as
+        // without rings
+        let (p, d) = ([0.0, 50.0, -0.5], [0.0, 0.0, 1.0]);
+        let ring = conic_root_of(&start_conic(&ringed, p, d), p, d);
+        assert!(ring.disc < 0.0, "the ring's conic is met");
+        let (start, own) = (conic_root(&ringed, p, d), conic_root(&plain, p, d));
+        assert!(
+            start.disc >= 0.0 && start.far.to_bits() == own.far.to_bits() && start.qc.to_bits() == own.qc.to_bits()
+        );
+        let (_, h) = steps(&ringed, p, d);
+        let (_, g) = steps(&plain, p, d);
+        assert!(
+            h.ok && h.converged && h.t.to_bits() == g.t.to_bits(),
+            "{} {} {} against {}",
+            h.ok,
+            h.converged,
+            h.t,
+            g.t
+        );
     }
 
     /// A strong hyperboloid (k = -222, a phone lens's) has its second sheet

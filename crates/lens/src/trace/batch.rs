@@ -32,8 +32,8 @@ use crate::simd::lanes::Real;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
     asphere_carry, conic_root, conic_root_of, newton_eval, newton_finish, newton_hit, newton_running,
-    newton_start_from, ring_conic, zones_of, AsphereHit, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic,
-    MAX_NEWTON_STEPS,
+    newton_start_from, ring_conic, ring_or_start, zones_of, AsphereHit, AsphereLanes, ConicRoot, Newton, NewtonEval,
+    StartConic, MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -881,7 +881,8 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool>(
         for j in 0..n {
             let (p, d) = ray(j);
             let [c, kc, k1c, pz] = get_quads((&nw.root[j][..4]).try_into().expect("four"));
-            nw.put_root(j, &conic_root_of(&StartConic { c, kc, k1c, pz }, p, d));
+            let ring = conic_root_of(&StartConic { c, kc, k1c, pz }, p, d);
+            nw.put_root(j, &ring_or_start(a, ring, p, d));
         }
     } else {
         for j in 0..n {

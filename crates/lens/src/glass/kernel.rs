@@ -131,7 +131,7 @@ impl Kernel {
         Kernel::Sellmeier { base, k, l, terms: n }
     }
 
-    /// The series Σ c[i] λ^(2 p[i]) (coefficients past the end of `c` are 0).
+    /// The series Σ c\[i\] λ^(2 p\[i\]) (coefficients past the end of `c` are 0).
     fn series(c: &[f64], p: &[i32]) -> Kernel {
         if p.len() > SERIES_TERMS || c.len() > p.len() {
             return Kernel::General;

@@ -516,8 +516,18 @@ pub(crate) fn newton_hit<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L;
         (st.m, st.q)
     };
     let cq = m.fma(q, a.c);
-    let n = [-(x * cq), -(y * cq), m];
-    let near = !m.le(L::splat(0.0));
+    hit_with_normal(d, st, [-(x * cq), -(y * cq), m])
+}
+
+/// The hit of the iteration `st` with its normal `n` ([`newton_hit`]'s):
+/// the point from the ray again, the verdicts from the state and `n`'s
+/// `m`, so that the batch keeps only the normal between its loops.
+#[inline(always)]
+pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3]) -> AsphereHit<L> {
+    let x = st.u.fma(d[0], st.p[0]);
+    let y = st.u.fma(d[1], st.p[1]);
+    let z = st.u.fma(d[2], st.p[2]);
+    let near = !n[2].le(L::splat(0.0));
     let missed = st.missed.is_neg();
     AsphereHit { t: st.u, x, y, z, n, ok: !missed & near, converged: st.converged.is_neg() & !missed }
 }

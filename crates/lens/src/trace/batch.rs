@@ -31,9 +31,9 @@ use crate::simd::avx2::F64x4;
 use crate::simd::lanes::Real;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
-    asphere_carry, conic_root, conic_root_of, newton_eval, newton_finish, newton_hit, newton_running,
-    newton_start_from, ring_conic, ring_or_start, zones_of, AsphereHit, AsphereLanes, ConicRoot, Newton, NewtonEval,
-    StartConic, MAX_NEWTON_STEPS,
+    asphere_carry, conic_root, conic_root_of, hit_with_normal, newton_eval, newton_finish, newton_hit, newton_running,
+    newton_start_from, ring_conic, ring_or_start, zones_of, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic,
+    MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -742,7 +742,7 @@ fn put_quads<const K: usize>(to: &mut [[f64; 4]; K], v: [F64x4; K]) {
 /// What [`asphere_chunk`] keeps for each vector between its loops, the
 /// kernel's structs as plain numbers: the conic's root (until the start),
 /// Newton's iteration (what changes between passes), a pass's evaluation
-/// (until its division) and the hit (until the refraction). Only what the
+/// (until its division) and the hit's normal (until the refraction). Only what the
 /// surface's kind of step reads is stored: a third-order step's hit
 /// evaluates its own normal, so neither its state nor its evaluation keeps
 /// `Q` and `m`.
@@ -752,7 +752,7 @@ struct NewtonScratch {
     root: [[[f64; 4]; 6]; VECTORS],
     state: [[[f64; 4]; 5]; VECTORS],
     eval: [[[f64; 4]; 5]; VECTORS],
-    hit: [[[f64; 4]; 9]; VECTORS],
+    normal: [[[f64; 4]; 3]; VECTORS],
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -761,7 +761,7 @@ impl NewtonScratch {
         root: [[[0.0; 4]; 6]; VECTORS],
         state: [[[0.0; 4]; 5]; VECTORS],
         eval: [[[0.0; 4]; 5]; VECTORS],
-        hit: [[[0.0; 4]; 9]; VECTORS],
+        normal: [[[0.0; 4]; 3]; VECTORS],
     };
 
     #[inline(always)]
@@ -817,19 +817,6 @@ impl NewtonScratch {
         let zero = F64x4::splat(0.0);
         let (gpp, q, m) = if THIRD { (get(3), zero, zero) } else { (zero, get(3), get(4)) };
         NewtonEval { g: get(0), gp: get(1), gpp, q, m, domain: get(2) }
-    }
-
-    #[inline(always)]
-    fn put_hit(&mut self, j: usize, h: &AsphereHit<F64x4>) {
-        let [nx, ny, nz] = h.n;
-        let (ok, converged) = (F64x4::from_mask(h.ok), F64x4::from_mask(h.converged));
-        put_quads(&mut self.hit[j], [h.t, h.x, h.y, h.z, nx, ny, nz, ok, converged]);
-    }
-
-    #[inline(always)]
-    fn hit(&self, j: usize) -> AsphereHit<F64x4> {
-        let [t, x, y, z, nx, ny, nz, ok, converged] = get_quads(&self.hit[j]);
-        AsphereHit { t, x, y, z, n: [nx, ny, nz], ok: ok.is_neg(), converged: converged.is_neg() }
     }
 }
 
@@ -922,12 +909,13 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool>(
     for j in 0..n {
         let (p, d) = ray(j);
         let h = newton_hit::<F64x4, THIRD>(a, d, &nw.state::<THIRD>(j, p));
-        nw.put_hit(j, &h);
+        put_quads(&mut nw.normal[j], h.n);
     }
     for j in 0..n {
         let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
-        let (_, d, opl) = load_rays(src, j);
-        store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &nw.hit(j), d, opl), bits);
+        let (p, d) = ray(j);
+        let h = hit_with_normal(d, &nw.state::<THIRD>(j, p), get_quads(&nw.normal[j]));
+        store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &h, d, load_rays(src, j).2), bits);
     }
 }
 

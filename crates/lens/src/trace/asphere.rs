@@ -123,10 +123,48 @@ pub(crate) struct AsphereLanes<L> {
     third_order: bool,
 }
 
+/// `1 + k` of the conic whose root starts an asphere's iteration (no
+/// rings): its own, or with the r^4 term folded in where that is a conic's
+/// (an even asphere without an r^2 term) and the conic is defined with room
+/// over the whole clear aperture.
+fn start_k1(c: f64, asphere: &Asphere, sd2: f64) -> f64 {
+    let a = |j: usize| asphere.coefficients[j - 1];
+    let k1 = 1.0 + asphere.conic;
+    let folded = k1 + 8.0 * a(4) / (c * c * c);
+    if asphere.degree() > 0
+        && asphere.is_even()
+        && a(2) == 0.0
+        && a(4) != 0.0
+        && c != 0.0
+        && sd2.is_finite()
+        && folded.is_finite()
+        && 1.0 - folded * c * c * sd2 >= 0.1
+    {
+        folded
+    } else {
+        k1
+    }
+}
+
+/// The rings that start the iteration of the asphere on a base of
+/// curvature `c` with clear radius squared `sd2` (`zones.rs`), `None` where
+/// its start conic is near enough.
+pub(crate) fn rings_of(c: f64, asphere: &Asphere, sd2: f64) -> Option<Zones> {
+    Zones::of(c, asphere, sd2, start_k1(c, asphere, sd2) - 1.0)
+}
+
 impl<L: Real> AsphereLanes<L> {
     /// The kernel's numbers for `asphere` on a base of curvature `c`, its
     /// clear radius squared `sd2` (mm^2, infinity for none).
+    #[cfg(test)]
     pub(crate) fn of(c: f64, asphere: &Asphere, sd2: f64) -> Self {
+        Self::with_zones(c, asphere, sd2, rings_of(c, asphere, sd2))
+    }
+
+    /// [`Self::of`] with the rings `zones` ([`rings_of`]'s, made once per
+    /// step: both paths must start from the same rings, and they take a
+    /// few thousand sag evaluations to make).
+    pub(crate) fn with_zones(c: f64, asphere: &Asphere, sd2: f64, zones: Option<Zones>) -> Self {
         let a = |j: usize| if j <= MAX_ASPHERE_POWER { asphere.coefficients[j - 1] } else { 0.0 };
         const HALF: usize = MAX_ASPHERE_POWER / 2;
         // index m - 1 (b, d) or m (cc, e from m = 1 at index 0): no heap
@@ -137,23 +175,7 @@ impl<L: Real> AsphereLanes<L> {
         // term j = 2i + 4 at s^i
         let v: [f64; HALF] = std::array::from_fn(|i| ((2 * i + 4) * (2 * i + 2)) as f64 * a(2 * i + 4));
         let k1 = 1.0 + asphere.conic;
-        // the r^4 term folded into the starting conic where it is a conic's
-        // (an even asphere without an r^2 term) and that conic is defined
-        // with room over the whole clear aperture
-        let folded = k1 + 8.0 * a(4) / (c * c * c);
-        let start_k1 = if asphere.degree() > 0
-            && asphere.is_even()
-            && a(2) == 0.0
-            && a(4) != 0.0
-            && c != 0.0
-            && sd2.is_finite()
-            && folded.is_finite()
-            && 1.0 - folded * c * c * sd2 >= 0.1
-        {
-            folded
-        } else {
-            k1
-        };
+        let start_k1 = start_k1(c, asphere, sd2);
         AsphereLanes {
             c: L::splat(c),
             k1c2: L::splat(k1 * c * c),
@@ -162,7 +184,7 @@ impl<L: Real> AsphereLanes<L> {
             half_c: L::splat(0.5 * c),
             start_kc: L::splat((start_k1 - 1.0) * c),
             start_k1c: L::splat(start_k1 * c),
-            zones: Zones::of(c, asphere, sd2, start_k1 - 1.0),
+            zones,
             b: Chain::of(&b),
             cc: Chain::of(&cc),
             d: Chain::of(&d),

@@ -338,7 +338,8 @@ impl Chunk {
     #[inline(always)]
     fn for_tracer(t: &Tracer) -> Box<Self> {
         let mut c = Chunk::new();
-        c.aspheres = t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::of(s.c, &a, s.sd2))).collect();
+        c.aspheres =
+            t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect();
         c
     }
 

@@ -13,7 +13,8 @@
 //! ray of its own wavelength - reads top to bottom in one place, the order a
 //! ray meets them.
 
-use super::asphere::{asphere_step, AsphereLanes};
+use super::asphere::{asphere_step, rings_of, AsphereLanes};
+use super::zones::Zones;
 use crate::model::surface::Asphere;
 use crate::model::Surface;
 use crate::simd::lanes::{Mask, Real};
@@ -295,6 +296,10 @@ pub(crate) struct Step {
     pub shape: u8,
     /// The conic and terms of an [`ASPHERE`] step.
     pub asphere: Option<Asphere>,
+    /// Its rings (`zones.rs`), made with the step, so that both paths
+    /// start from the same ones (kept when a tracer widens `sd2` later:
+    /// the start only decides how many steps a ray takes).
+    pub zones: Option<Zones>,
 }
 
 /// How much (relative) a clear aperture's squared radius is widened for
@@ -654,7 +659,7 @@ pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -
 #[inline(always)]
 pub(crate) fn step_dispatch<L: Real>(s: &Step, k: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
     if let (ASPHERE, Some(a)) = (s.shape, &s.asphere) {
-        let a = AsphereLanes::of(s.c, a, s.sd2);
+        let a = AsphereLanes::with_zones(s.c, a, s.sd2, s.zones);
         return if s.refract { asphere_step::<L, true>(k, &a, l) } else { asphere_step::<L, false>(k, &a, l) };
     }
     match (s.refract, s.shape) {
@@ -680,9 +685,10 @@ pub(crate) fn surface_step(
     vertex_z: f64,
 ) -> Step {
     let id = |g: Option<usize>| g.map_or(NO_GLASS, |g| g as u32);
+    let sd2 = surf.semi_diameter.map_or(f64::INFINITY, |r| r * r * (1.0 + RIM_TOLERANCE));
     Step {
         c: surf.curvature,
-        sd2: surf.semi_diameter.map_or(f64::INFINITY, |r| r * r * (1.0 + RIM_TOLERANCE)),
+        sd2,
         mu: n1 / n2,
         n_before: n1,
         n_after: n2,
@@ -694,6 +700,7 @@ pub(crate) fn surface_step(
         refract: n1 != n2,
         shape: shape_of(surf.curvature, surf.asphere.is_some()),
         asphere: surf.asphere,
+        zones: surf.asphere.and_then(|a| rings_of(surf.curvature, &a, sd2)),
     }
 }
 

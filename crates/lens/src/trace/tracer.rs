@@ -93,6 +93,7 @@ impl Tracer {
             refract: false,
             shape: PLANE,
             asphere: None,
+            zones: None,
         });
         Tracer::with_glasses(steps, p)
     }

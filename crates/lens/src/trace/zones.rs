@@ -39,7 +39,7 @@ pub const FIT_MM: f64 = 1e-4;
 
 /// The rings' conics: row `i` is `[c, k c, z0, 0]` of ring `i`'s conic
 /// `c s - 2 w + (1 + k) c w^2 = 0` in `w = z - z0`.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Zones {
     /// `ZONES / sd^2`, 1/mm^2: s times this is a ray's ring (truncated).
     per_s: f64,
@@ -64,16 +64,22 @@ impl Sag<'_> {
         let mut z = self.c * s / (1.0 + m);
         let mut z1 = self.c / (2.0 * m);
         let mut z2 = self.k1 * self.c.powi(3) / (4.0 * m * m * m);
+        // the term a r^j = a s^(j / 2), its derivatives in s by integer
+        // powers of r (an odd power's are infinite at s = 0: no conic there)
+        let r = s.sqrt();
         for (i, a) in self.asphere.coefficients.iter().enumerate() {
-            // the term a s^e, e = (i + 1) / 2 (even powers only)
             if *a == 0.0 {
                 continue;
             }
-            let e = (i + 1) as f64 / 2.0;
-            z += a * s.powf(e);
-            z1 += a * e * s.powf(e - 1.0);
-            if e >= 2.0 {
-                z2 += a * e * (e - 1.0) * s.powf(e - 2.0);
+            let j = i as i32 + 1;
+            let e = f64::from(j) / 2.0;
+            z += a * r.powi(j);
+            if j == 2 {
+                // an r^2 term: no second derivative
+                z1 += a;
+            } else {
+                z1 += a * e * r.powi(j - 2);
+                z2 += a * e * (e - 1.0) * r.powi(j - 4);
             }
         }
         Some([z, z1, z2]).filter(|v| v.iter().all(|x| x.is_finite()))
@@ -138,7 +144,7 @@ impl Zones {
             };
             // the ring and its neighbours
             let (lo, hi) = ((i as f64 - 1.0).max(0.0) * width, ((i + 2) as f64 * width).min(sd2));
-            let fits = (0..=16).map(|j| lo + (hi - lo) * j as f64 / 16.0).all(|s| {
+            let fits = (0..=8).map(|j| lo + (hi - lo) * j as f64 / 8.0).all(|s| {
                 match (sag.at(s), conic_sag(ci, kci, z0, s)) {
                     (Some([z, ..]), Some(zc)) => (z - zc).abs() <= FIT_MM,
                     _ => false,

@@ -741,12 +741,12 @@ fn put_quads<const K: usize>(to: &mut [[f64; 4]; K], v: [F64x4; K]) {
 }
 
 /// What [`asphere_chunk`] keeps for each vector between its loops, the
-/// kernel's structs as plain numbers: the conic's root (until the start),
-/// Newton's iteration (what changes between passes), a pass's evaluation
-/// (until its division) and the hit's normal (until the refraction). Only what the
-/// surface's kind of step reads is stored: a third-order step's hit
-/// evaluates its own normal, so neither its state nor its evaluation keeps
-/// `Q` and `m`.
+/// kernel's structs as plain numbers: the ray's ring and its conic, then the
+/// conic's root (until the start), Newton's iteration (what changes between
+/// passes), a pass's evaluation (until its division) and the hit's normal
+/// (until the refraction). Only what the surface's kind of step reads is
+/// stored: a third-order step's hit evaluates its own normal, so neither
+/// its state nor its evaluation keeps `Q` and `m`.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct NewtonScratch {

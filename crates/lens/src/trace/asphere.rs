@@ -319,7 +319,7 @@ pub(crate) fn ring_or_start<L: Real>(a: &AsphereLanes<L>, ring: ConicRoot<L>, p:
     if a.zones.is_none() || !missed.any() {
         return ring;
     }
-    let own = conic_root_of(&StartConic { c: a.c, kc: a.start_kc, k1c: a.start_k1c, pz: p[2] }, p, d);
+    let own = conic_root_of(&own_start(a, p[2]), p, d);
     let pick = |r: L, o: L| L::select(missed, o, r);
     ConicRoot {
         k1c: pick(ring.k1c, own.k1c),
@@ -349,9 +349,15 @@ pub(crate) struct StartConic<L> {
 #[inline(always)]
 pub(crate) fn start_conic<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> StartConic<L> {
     match &a.zones {
-        None => StartConic { c: a.c, kc: a.start_kc, k1c: a.start_k1c, pz: p[2] },
+        None => own_start(a, p[2]),
         Some(z) => ring_conic(z.of_ray(p, d), p[2]),
     }
+}
+
+/// The surface's own start conic, for a ray at `pz` from its vertex.
+#[inline(always)]
+fn own_start<L: Real>(a: &AsphereLanes<L>, pz: L) -> StartConic<L> {
+    StartConic { c: a.c, kc: a.start_kc, k1c: a.start_k1c, pz }
 }
 
 /// The surface's rings, where it starts its rays from their conics.
@@ -386,14 +392,14 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
     let one = L::splat(1.0);
     let ConicRoot { k1c, pz, qa, qc, far, disc } = *q;
     let near = -qc / far;
-    // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root (the
-    // other root is wanted only where the near one is off it: rare, so
-    // computed only then; a lane's choice does not depend on the others)
+    // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root. The
+    // other root is wanted only where the near one is off it: rare from the
+    // surface's own conic, so computed only then; from the rings' conics
+    // (strongly oblate ellipsoids a ray may start inside) often, so always,
+    // with no branch to mispredict. A lane's choice does not depend on the
+    // others.
     let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], pz), one).le(L::splat(0.0));
     let near_ok = on_sheet(near);
-    // (a surface started from fitted conics, strongly oblate ellipsoids
-    // that a ray may start inside, often wants the other: always computed
-    // there, no branch to mispredict)
     let u = if a.zones.is_some() || (!near_ok).any() {
         let other = -far / qa;
         L::select(near_ok | !on_sheet(other) | !other.is_finite(), near, other)

@@ -829,8 +829,9 @@ impl NewtonScratch {
 /// the surface's [`AsphereLanes::third_order`].
 ///
 /// Every stage is a loop over the vectors that stores what the next needs
-/// in `nw` (the conic's roots, then the starts; per pass, the evaluations,
-/// then the divisions; the hits, then the refractions): each loop's chain
+/// in `nw` (for a surface with rings, each ray's ring, then its conic;
+/// the conic's roots, then the starts; per pass, the evaluations, then the
+/// divisions; the hits' normals, then the refractions): each loop's chain
 /// of dependent operations is short enough to overlap across vectors, as
 /// the sphere's two loops. The vectors still iterating are the bits of one
 /// integer, so that a pass visits only those.

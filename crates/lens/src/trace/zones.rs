@@ -54,26 +54,26 @@ struct Sag<'a> {
 }
 
 impl Sag<'_> {
-    /// `(z, dz/ds, d2z/ds2)` at `s`, `None` outside the conic's domain.
+    /// `(z, dz/ds, d2z/ds2)` at `s`, `None` outside the conic's domain (the
+    /// sag itself is the surface's, [`Asphere::sag`]).
     fn at(&self, s: f64) -> Option<[f64; 3]> {
         let q = 1.0 - self.k1 * self.c * self.c * s;
         if q.is_nan() || q <= 0.0 {
             return None;
         }
         let m = q.sqrt();
-        let mut z = self.c * s / (1.0 + m);
+        let r = s.sqrt();
+        let z = self.asphere.sag(self.c, r)?;
         let mut z1 = self.c / (2.0 * m);
         let mut z2 = self.k1 * self.c.powi(3) / (4.0 * m * m * m);
-        // the term a r^j = a s^(j / 2), its derivatives in s by integer
+        // the term a r^j = a s^(j / 2): its derivatives in s by integer
         // powers of r (an odd power's are infinite at s = 0: no conic there)
-        let r = s.sqrt();
         for (i, a) in self.asphere.coefficients.iter().enumerate() {
             if *a == 0.0 {
                 continue;
             }
             let j = i as i32 + 1;
             let e = f64::from(j) / 2.0;
-            z += a * r.powi(j);
             if j == 2 {
                 // an r^2 term: no second derivative
                 z1 += a;

@@ -275,11 +275,12 @@ pub(crate) struct Newton<L> {
 /// asphere's frame) with the asphere `a`: a root of the conic's quadratic
 /// `A t^2 + 2 B t + C = 0`, with `A = c (1 + k dz^2)`,
 /// `B = c (p . d) + k c pz dz - dz` and `C = c |p|^2 + k c pz^2 - 2 pz`, on
-/// the conic's sheet through the vertex (`1 - (1 + k) c z > 0`): the
-/// rationalised root `-C / (B + s sqrt(B^2 - A C))` when it lies there,
-/// else the other, `(-B - s sqrt(..)) / A` (a strong hyperboloid's second
-/// sheet lies close in front of the vertex); where the line misses the
-/// conic, the root of its linear part, `-C / 2B`.
+/// the conic's sheet through the vertex (`1 - (1 + k) c z > 0`): the root
+/// where the ray crosses that sheet in its direction of travel ([`front_root`]);
+/// where that root is off the sheet, the nearer root if it lies there, else
+/// the other (a strong hyperboloid's second sheet lies close in front of the
+/// vertex); where the line misses the conic, `-C / B` (where it would
+/// touch it).
 #[inline(always)]
 pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> Newton<L> {
     newton_start_from(a, p, d, &conic_root(a, p, d))
@@ -294,12 +295,13 @@ pub(crate) struct ConicRoot<L> {
     /// The conic's `(1 + k) c`, and `pz` from its vertex.
     pub k1c: L,
     pub pz: L,
-    /// `A` and `C` of the quadratic.
+    /// `A`, `B` and `C` of the quadratic.
     pub qa: L,
+    pub qb: L,
     pub qc: L,
-    /// `B + s sqrt(B^2 - A C)` (s the sign of B), the rationalised root's
-    /// denominator.
-    pub far: L,
+    /// `sigma sqrt(B^2 - A C)`, sigma the sign of the ray's `dz` (0 where
+    /// the line misses the conic).
+    pub root: L,
     /// `B^2 - A C`.
     pub disc: L,
 }
@@ -325,8 +327,9 @@ pub(crate) fn ring_or_start<L: Real>(a: &AsphereLanes<L>, ring: ConicRoot<L>, p:
         k1c: pick(ring.k1c, own.k1c),
         pz: pick(ring.pz, own.pz),
         qa: pick(ring.qa, own.qa),
+        qb: pick(ring.qb, own.qb),
         qc: pick(ring.qc, own.qc),
-        far: pick(ring.far, own.far),
+        root: pick(ring.root, own.root),
         disc: pick(ring.disc, own.disc),
     }
 }
@@ -383,28 +386,42 @@ pub(crate) fn conic_root_of<L: Real>(sc: &StartConic<L>, p: [L; 3], d: [L; 3]) -
     let qc = c.fma(pz.fma(pz, p[0].fma(p[0], p[1] * p[1])), (kc * pz).fma(pz, -(pz + pz)));
     let disc = qb.fma(qb, -(qa * qc));
     let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
-    ConicRoot { k1c, pz, qa, qc, far: qb + root.or(qb.sign_bit()), disc }
+    ConicRoot { k1c, pz, qa, qb, qc, root: root.or(d[2].sign_bit()), disc }
+}
+
+/// The root of the conic's quadratic (`q`, [`conic_root`]) where the ray of
+/// direction `d` crosses the conic in its direction of travel: where the
+/// conic's normal `(-c x, -c y, 1 - (1 + k) c z)` has a positive part along
+/// the ray for a ray going towards +z (the sheet through the vertex, met
+/// from its front), so where `G' = 2 (A t + B) = -2 sigma sqrt(B^2 - A C)`:
+/// `t = (-B - sigma sqrt(..)) / A`, with one division, rationalised as
+/// `C / (sigma sqrt(..) - B)` where B's sign is not sigma's (no
+/// cancellation either way). Not finite where the line misses the conic's
+/// front (`A` = 0 with B's sign sigma's: one root, on the back).
+#[inline(always)]
+pub(crate) fn front_root<L: Real>(q: &ConicRoot<L>, d: [L; 3]) -> L {
+    let rationalised = (q.qb * d[2]).le(L::splat(0.0));
+    L::select(rationalised, q.qc, -(q.qb + q.root)) / L::select(rationalised, q.root - q.qb, q.qa)
 }
 
 /// [`newton_start`] from the conic's root `q` ([`conic_root`]).
 #[inline(always)]
 pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3], q: &ConicRoot<L>) -> Newton<L> {
     let one = L::splat(1.0);
-    let ConicRoot { k1c, pz, qa, qc, far, disc } = *q;
-    let near = -qc / far;
-    // the sheet through the vertex: 1 - (1 + k) c z > 0 at the root. The
-    // other root is wanted only where the near one is off it: rare from the
-    // surface's own conic, so computed only then; from the rings' conics
-    // (strongly oblate ellipsoids a ray may start inside) often, so always,
-    // with no branch to mispredict. A lane's choice does not depend on the
-    // others.
+    let ConicRoot { k1c, pz, qa, qb, qc, root, disc } = *q;
     let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], pz), one).le(L::splat(0.0));
-    let near_ok = on_sheet(near);
-    let u = if a.zones.is_some() || (!near_ok).any() {
+    let front = front_root(q, d);
+    let front_ok = on_sheet(front) & front.is_finite();
+    // the rare lane whose front root is off the vertex sheet (or missing):
+    // the nearer root where that is on the sheet, else the other
+    let u = if (!front_ok).any() {
+        let far = qb + root.abs().or(qb.sign_bit());
+        let near = -qc / far;
         let other = -far / qa;
-        L::select(near_ok | !on_sheet(other) | !other.is_finite(), near, other)
+        let pick = L::select(on_sheet(near) | !on_sheet(other) | !other.is_finite(), near, other);
+        L::select(front_ok, front, pick)
     } else {
-        near
+        front
     };
     if a.conic_only {
         // the root is exact (to rounding): done, unless the line misses;
@@ -760,7 +777,7 @@ mod tests {
         assert!(ring.disc < 0.0, "the ring's conic is met");
         let (start, own) = (conic_root(&ringed, p, d), conic_root(&plain, p, d));
         assert!(
-            start.disc >= 0.0 && start.far.to_bits() == own.far.to_bits() && start.qc.to_bits() == own.qc.to_bits()
+            start.disc >= 0.0 && start.root.to_bits() == own.root.to_bits() && start.qc.to_bits() == own.qc.to_bits()
         );
         let (_, h) = steps(&ringed, p, d);
         let (_, g) = steps(&plain, p, d);
@@ -772,6 +789,39 @@ mod tests {
             h.t,
             g.t
         );
+    }
+
+    /// The front root is where the ray crosses the conic in its direction
+    /// of travel: on the conic, its normal's part along the ray of the sign
+    /// of `dz`, for rays going either way, from inside and outside an oblate
+    /// ellipsoid, a sphere and a hyperboloid.
+    #[test]
+    fn the_front_root_is_crossed_in_the_direction_of_travel() {
+        let mut next = crate::trace::uniform(0xf0);
+        for (c, k) in [(1.0 / 20.0, 0.0), (-1.0 / 20.0, 0.0), (1.0 / 15.0, 4.0), (-1.0 / 15.0, 4.0), (1.0 / 10.0, -5.0)]
+        {
+            let a = AsphereLanes::<f64>::of(c, &Asphere::new(k, &[], &[]).unwrap(), f64::INFINITY);
+            let mut met = 0;
+            for _ in 0..500 {
+                let (th, psi) = (0.6 * next(), std::f64::consts::TAU * next());
+                let sigma = if next() < 0.5 { -1.0 } else { 1.0 };
+                let d = [th.sin() * psi.cos(), th.sin() * psi.sin(), sigma * th.cos()];
+                let p = [6.0 * (next() - 0.5), 6.0 * (next() - 0.5), -sigma * (0.5 + 3.0 * next())];
+                let q = conic_root(&a, p, d);
+                let t = front_root(&q, d);
+                if q.disc < 0.0 || !t.is_finite() {
+                    continue;
+                }
+                met += 1;
+                let [x, y, z] = [p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]];
+                let g = c * (x * x + y * y) + k * c * z * z - 2.0 * z + c * z * z;
+                assert!(g.abs() < 1e-12, "c {c} k {k}: G = {g:e} at t {t}");
+                let n = [-c * x, -c * y, 1.0 - (1.0 + k) * c * z];
+                let along = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+                assert!(along * sigma > 0.0, "c {c} k {k}: crossed against the ray ({along}, dz {})", d[2]);
+            }
+            assert!(met > 300, "c {c} k {k}: {met} rays met");
+        }
     }
 
     /// A strong hyperboloid (k = -222, a phone lens's) has its second sheet

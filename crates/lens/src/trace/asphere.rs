@@ -10,7 +10,7 @@
 //! sag(r(u))` is `u <- u - F / F'`, `F' = d . N` with the surface normal
 //! `N = (-g x, -g y, 1)`, `g = (dz/dr) / r`.
 
-use super::step::{refract_lanes, snell_root_unnormalised, Lane, StepLanes, StepOut, Verdict};
+use super::step::{refract_scaled, snell_root_unnormalised, Lane, StepLanes, StepOut, Verdict};
 use super::zones::Zones;
 use crate::model::surface::{Asphere, MAX_ASPHERE_POWER};
 use crate::simd::lanes::{Mask, Real};
@@ -45,6 +45,38 @@ impl<L: Real> Chain<L> {
             *ci = L::splat(*a);
         }
         Chain { c, n }
+    }
+
+    /// The chain at `s` with `N` terms (its own count, a compile-time
+    /// constant: no branch on it), those past its own being zeros; `N` = 0
+    /// is [`Self::at`]. Bit for bit [`Self::at`] at a finite `s`: a zero
+    /// term times `s` adds an exact zero.
+    #[inline(always)]
+    fn at_len<const N: usize>(&self, s: L) -> L {
+        if N == 0 {
+            return self.at(s);
+        }
+        debug_assert!(self.n <= N);
+        let mut p = self.c[N - 1];
+        for i in (0..N - 1).rev() {
+            p = p.fma(s, self.c[i]);
+        }
+        p
+    }
+
+    /// [`Self::at_len`] with `N - 1` terms (the chain `V`, a term shorter
+    /// than `B` and `D`); `N` = 0 is [`Self::at`].
+    #[inline(always)]
+    fn at_len_less_one<const N: usize>(&self, s: L) -> L {
+        if N == 0 {
+            return self.at(s);
+        }
+        debug_assert!(N >= 2 && self.n < N);
+        let mut p = self.c[N - 2];
+        for i in (0..N - 2).rev() {
+            p = p.fma(s, self.c[i]);
+        }
+        p
     }
 
     #[inline(always)]
@@ -121,6 +153,24 @@ pub(crate) struct AsphereLanes<L> {
     /// An even asphere with terms: the iteration takes third-order
     /// (Chebyshev) steps and may end by its error estimate.
     third_order: bool,
+    /// The number of terms its chains are evaluated with, a compile-time
+    /// constant of the iteration's functions ([`Self::chain_terms`]).
+    terms: usize,
+}
+
+/// The chain lengths that get their own code ([`AsphereLanes::chain_terms`]):
+/// the even aspheres' `a_4 .. a_8` to `a_4 .. a_16` (with or without
+/// `a_2`).
+pub(crate) const CHAIN_TERMS: [usize; 4] = [4, 5, 6, MAX_ASPHERE_POWER / 2];
+
+/// [`AsphereLanes::chain_terms`] of `asphere`.
+fn chain_terms(asphere: &Asphere) -> usize {
+    if !asphere.is_even() || asphere.degree() == 0 {
+        return 0;
+    }
+    // the longest chain, B and D's: terms a_2 .. a_degree
+    let n = asphere.degree() / 2;
+    CHAIN_TERMS.into_iter().find(|t| n <= *t).unwrap_or(0)
 }
 
 /// `1 + k` of the conic whose root starts an asphere's iteration (no
@@ -195,7 +245,18 @@ impl<L: Real> AsphereLanes<L> {
             odd: !asphere.is_even(),
             conic_only: asphere.degree() == 0,
             third_order: asphere.is_even() && asphere.degree() > 0,
+            terms: chain_terms(asphere),
         }
+    }
+
+    /// The `TERMS` the iteration's functions must be called with: the
+    /// chains' length for an even asphere, rounded up to one of
+    /// [`CHAIN_TERMS`] (the extra terms zeros), so that each length gets its
+    /// own code, without a branch per chain and ray; 0 (each chain its own
+    /// length, chosen per evaluation) for other surfaces.
+    #[inline(always)]
+    pub(crate) fn chain_terms(&self) -> usize {
+        self.terms
     }
 
     /// Whether Newton's iteration has anything to do: not for a pure conic,
@@ -215,11 +276,12 @@ impl<L: Real> AsphereLanes<L> {
     /// The polynomial part at `s` = r^2: its sag `P` and `Q = (dP/dr) /
     /// r`. On the axis (r = 0, where x = y = 0 and Q's value does not
     /// matter) an r^1 term's `a_1 / r` is kept finite.
-    /// `THIRD` is [`Self::third_order`] (an even asphere: no odd powers).
+    /// `THIRD` is [`Self::third_order`] (an even asphere: no odd powers),
+    /// `TERMS` [`Self::chain_terms`].
     #[inline(always)]
-    fn poly<const THIRD: bool>(&self, s: L) -> (L, L) {
-        let mut p = self.b.at(s) * s;
-        let mut q = self.d.at(s);
+    fn poly<const THIRD: bool, const TERMS: usize>(&self, s: L) -> (L, L) {
+        let mut p = self.b.at_len::<TERMS>(s) * s;
+        let mut q = self.d.at_len::<TERMS>(s);
         if !THIRD && self.odd {
             let r = s.sqrt();
             p = r.fma(self.cc.at(s), p);
@@ -241,6 +303,8 @@ pub(crate) struct AsphereHit<L: Real> {
     pub x: L,
     pub y: L,
     pub z: L,
+    /// `x^2 + y^2` at the hit, mm^2 (as `x.fma(x, y * y)`).
+    pub r2: L,
     /// The normal at the hit, not unit: `(-x (c + m Q), -y (c + m Q), m)`
     /// with `m = 1 - (1 + k) c w` > 0 (the conic's square root at the hit)
     /// and `Q` as [`AsphereLanes::poly`] gives it; `(0, 0, 1)` at the vertex.
@@ -455,8 +519,12 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
 /// `THIRD` must be [`AsphereLanes::third_order`] (as for the functions
 /// below): a constant, so that each kind of surface gets its own code.
 #[inline(always)]
-pub(crate) fn newton_step<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L; 3], st: &mut Newton<L>) {
-    let ev = newton_eval::<L, THIRD>(a, d, st);
+pub(crate) fn newton_step<L: Real, const THIRD: bool, const TERMS: usize>(
+    a: &AsphereLanes<L>,
+    d: [L; 3],
+    st: &mut Newton<L>,
+) {
+    let ev = newton_eval::<L, THIRD, TERMS>(a, d, st);
     newton_finish::<L, THIRD>(st, &ev);
 }
 
@@ -478,13 +546,17 @@ pub(crate) struct NewtonEval<L> {
 
 /// The part of [`newton_step`] before its division.
 #[inline(always)]
-pub(crate) fn newton_eval<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> NewtonEval<L> {
+pub(crate) fn newton_eval<L: Real, const THIRD: bool, const TERMS: usize>(
+    a: &AsphereLanes<L>,
+    d: [L; 3],
+    st: &Newton<L>,
+) -> NewtonEval<L> {
     let one = L::splat(1.0);
     let x = st.u.fma(d[0], st.p[0]);
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
     let s = x.fma(x, y * y);
-    let (pp, q) = a.poly::<THIRD>(s);
+    let (pp, q) = a.poly::<THIRD, TERMS>(s);
     let w = z - pp;
     let m = (-a.k1c).fma(w, one);
     // G / 2 = c s / 2 + w (k1c w / 2 - 1); G' / 2 = c (r . d) - m w',
@@ -496,7 +568,7 @@ pub(crate) fn newton_eval<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L
     let gpp = if THIRD {
         // G'' / 2 = c rho^2 - m w'' + k1c w'^2, -w'' = Q rho^2 + V rd^2
         let rho2 = d[0].fma(d[0], d[1] * d[1]);
-        let minus_wpp = q.fma(rho2, a.v.at(s) * rd * rd);
+        let minus_wpp = q.fma(rho2, a.v.at_len_less_one::<TERMS>(s) * rd * rd);
         (a.k1c * wp).fma(wp, m.fma(minus_wpp, a.c * rho2))
     } else {
         L::splat(0.0)
@@ -547,34 +619,40 @@ pub(crate) fn newton_running<L: Real>(st: &Newton<L>) -> bool {
 
 /// The hit after the iteration, with the normal there.
 #[inline(always)]
-pub(crate) fn newton_hit<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, d: [L; 3], st: &Newton<L>) -> AsphereHit<L> {
+pub(crate) fn newton_hit<L: Real, const THIRD: bool, const TERMS: usize>(
+    a: &AsphereLanes<L>,
+    d: [L; 3],
+    st: &Newton<L>,
+) -> AsphereHit<L> {
     let x = st.u.fma(d[0], st.p[0]);
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
     // a step the estimate ended may be up to ESTIMATE_FROM_MM long: the
     // normal is evaluated again at the hit (otherwise the last evaluation,
     // at most the tolerance away, is the hit's)
+    let r2 = x.fma(x, y * y);
     let (m, q) = if THIRD {
-        let (pp, q) = a.poly::<THIRD>(x.fma(x, y * y));
+        let (pp, q) = a.poly::<THIRD, TERMS>(r2);
         ((-a.k1c).fma(z - pp, L::splat(1.0)), q)
     } else {
         (st.m, st.q)
     };
     let cq = m.fma(q, a.c);
-    hit_with_normal(d, st, [-(x * cq), -(y * cq), m])
+    hit_with_normal(d, st, [-(x * cq), -(y * cq), m], r2)
 }
 
-/// The hit of the iteration `st` with its normal `n` ([`newton_hit`]'s):
-/// the point from the ray again, the verdicts from the state and `n`'s
-/// `m`, so that the batch keeps only the normal between its loops.
+/// The hit of the iteration `st` with its normal `n` and its `r2`
+/// ([`newton_hit`]'s): the point from the ray again, the verdicts from the
+/// state and `n`'s `m`, so that the batch keeps only the normal and `r2`
+/// between its loops.
 #[inline(always)]
-pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3]) -> AsphereHit<L> {
+pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3], r2: L) -> AsphereHit<L> {
     let x = st.u.fma(d[0], st.p[0]);
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
     let near = !n[2].le(L::splat(0.0));
     let missed = st.missed.is_neg();
-    AsphereHit { t: st.u, x, y, z, n, ok: !missed & near, converged: st.converged.is_neg() & !missed }
+    AsphereHit { t: st.u, x, y, z, r2, n, ok: !missed & near, converged: st.converged.is_neg() & !missed }
 }
 
 /// Intersects the ray `p + t d` (unit `d`, the asphere's frame) with the
@@ -582,25 +660,27 @@ pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3]) -> 
 /// left the iteration or [`MAX_NEWTON_STEPS`] were taken.
 #[inline(always)]
 pub(crate) fn meet_asphere<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
-    if a.third_order {
-        meet::<L, true>(a, p, d)
-    } else {
-        meet::<L, false>(a, p, d)
+    match (a.third_order, a.terms) {
+        (false, _) => meet::<L, false, 0>(a, p, d),
+        (true, 4) => meet::<L, true, 4>(a, p, d),
+        (true, 5) => meet::<L, true, 5>(a, p, d),
+        (true, 6) => meet::<L, true, 6>(a, p, d),
+        (true, _) => meet::<L, true, 8>(a, p, d),
     }
 }
 
 /// [`meet_asphere`] for a surface whose [`AsphereLanes::third_order`] is
 /// `THIRD`.
 #[inline(always)]
-fn meet<L: Real, const THIRD: bool>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
+fn meet<L: Real, const THIRD: bool, const TERMS: usize>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
     let mut st = newton_start(a, p, d);
     for _ in 0..MAX_NEWTON_STEPS {
         if !newton_running(&st) {
             break;
         }
-        newton_step::<L, THIRD>(a, d, &mut st);
+        newton_step::<L, THIRD, TERMS>(a, d, &mut st);
     }
-    newton_hit::<L, THIRD>(a, d, &st)
+    newton_hit::<L, THIRD, TERMS>(a, d, &st)
 }
 
 /// An asphere step: shift into the surface's frame, intersect
@@ -627,15 +707,14 @@ pub(crate) fn asphere_carry<L: Real, const REFRACT: bool>(
     d: [L; 3],
     opl: L,
 ) -> StepOut<L> {
-    let inside = s.inside(h.x, h.y);
+    let inside = s.inside_r2(h.r2);
     let ([dx, dy, dz], through) = if REFRACT {
         // at the normal as it comes, not unit: one square root fewer
         let [nx, ny, nz] = h.n;
         let q = nz.fma(nz, nx.fma(nx, ny * ny));
         let g = d[2].fma(nz, d[0].fma(nx, d[1] * ny));
         let (root, through) = snell_root_unnormalised::<L, REFRACT>(s, g, q);
-        let inv_q = L::splat(1.0) / q;
-        (refract_lanes(d[0], d[1], d[2], nx * inv_q, ny * inv_q, nz * inv_q, s.mu, g, root), through)
+        (refract_scaled(d, h.n, s.mu, g, root, L::splat(1.0) / q), through)
     } else {
         (d, L::Mask::all_true())
     };
@@ -743,10 +822,10 @@ mod tests {
             let mut st = newton_start(a, p, d);
             let mut n = 0;
             while newton_running(&st) && n < MAX_NEWTON_STEPS {
-                newton_step::<f64, true>(a, d, &mut st);
+                newton_step::<f64, true, 4>(a, d, &mut st);
                 n += 1;
             }
-            (n, newton_hit::<f64, true>(a, d, &st))
+            (n, newton_hit::<f64, true, 4>(a, d, &st))
         };
         let mut next = crate::trace::uniform(0x5eed);
         let (mut rays, mut one_ringed, mut one_plain) = (0, 0, 0);

@@ -651,10 +651,15 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     let mut bits = Bits::default();
     if let (ASPHERE, Some(asph)) = (SHAPE, &aspheres[k]) {
-        if asph.third_order() {
-            asphere_chunk::<REFRACT, PER_RAY, true>(s, &sl, asph, src, dst, n, ix, &mut bits, newton);
-        } else {
-            asphere_chunk::<REFRACT, PER_RAY, false>(s, &sl, asph, src, dst, n, ix, &mut bits, newton);
+        // direct calls, each inlined into this AVX2 function (a function
+        // pointer would lose its target features)
+        let b = &mut bits;
+        match (asph.third_order(), asph.chain_terms()) {
+            (false, _) => asphere_chunk::<REFRACT, PER_RAY, false, 0>(s, &sl, asph, src, dst, n, ix, b, newton),
+            (true, 4) => asphere_chunk::<REFRACT, PER_RAY, true, 4>(s, &sl, asph, src, dst, n, ix, b, newton),
+            (true, 5) => asphere_chunk::<REFRACT, PER_RAY, true, 5>(s, &sl, asph, src, dst, n, ix, b, newton),
+            (true, 6) => asphere_chunk::<REFRACT, PER_RAY, true, 6>(s, &sl, asph, src, dst, n, ix, b, newton),
+            (true, _) => asphere_chunk::<REFRACT, PER_RAY, true, 8>(s, &sl, asph, src, dst, n, ix, b, newton),
         }
     } else {
         if SHAPE != PLANE {
@@ -753,7 +758,7 @@ struct NewtonScratch {
     root: [[[f64; 4]; 7]; VECTORS],
     state: [[[f64; 4]; 5]; VECTORS],
     eval: [[[f64; 4]; 5]; VECTORS],
-    normal: [[[f64; 4]; 3]; VECTORS],
+    normal: [[[f64; 4]; 4]; VECTORS],
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -762,7 +767,7 @@ impl NewtonScratch {
         root: [[[0.0; 4]; 7]; VECTORS],
         state: [[[0.0; 4]; 5]; VECTORS],
         eval: [[[0.0; 4]; 5]; VECTORS],
-        normal: [[[0.0; 4]; 3]; VECTORS],
+        normal: [[[0.0; 4]; 4]; VECTORS],
     };
 
     #[inline(always)]
@@ -826,7 +831,8 @@ impl NewtonScratch {
 /// pass over the chunk, so that the vectors' chains of dependent operations
 /// overlap (one vector at a time waits on each division in turn). Each lane
 /// takes the steps the one-ray path takes, so the bits agree. `THIRD` is
-/// the surface's [`AsphereLanes::third_order`].
+/// the surface's [`AsphereLanes::third_order`], `TERMS` its
+/// [`AsphereLanes::chain_terms`].
 ///
 /// Every stage is a loop over the vectors that stores what the next needs
 /// in `nw` (for a surface with rings, each ray's ring, then its conic;
@@ -838,7 +844,7 @@ impl NewtonScratch {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool>(
+fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, const TERMS: usize>(
     s: &Step,
     sl: &StepLanes<F64x4>,
     a: &AsphereLanes<F64x4>,
@@ -895,7 +901,7 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool>(
         }
         for j in ones(live) {
             let (p, d) = ray(j);
-            let ev = newton_eval::<F64x4, THIRD>(a, d, &nw.state::<THIRD>(j, p));
+            let ev = newton_eval::<F64x4, THIRD, TERMS>(a, d, &nw.state::<THIRD>(j, p));
             nw.put_eval::<THIRD>(j, &ev);
         }
         let mut next = 0u64;
@@ -910,13 +916,14 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool>(
     }
     for j in 0..n {
         let (p, d) = ray(j);
-        let h = newton_hit::<F64x4, THIRD>(a, d, &nw.state::<THIRD>(j, p));
-        put_quads(&mut nw.normal[j], h.n);
+        let h = newton_hit::<F64x4, THIRD, TERMS>(a, d, &nw.state::<THIRD>(j, p));
+        put_quads(&mut nw.normal[j], [h.n[0], h.n[1], h.n[2], h.r2]);
     }
     for j in 0..n {
         let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
         let (p, d) = ray(j);
-        let h = hit_with_normal(d, &nw.state::<THIRD>(j, p), get_quads(&nw.normal[j]));
+        let [nx, ny, nz, r2] = get_quads(&nw.normal[j]);
+        let h = hit_with_normal(d, &nw.state::<THIRD>(j, p), [nx, ny, nz], r2);
         store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &h, d, load_rays(src, j).2), bits);
     }
 }

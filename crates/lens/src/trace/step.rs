@@ -258,10 +258,18 @@ pub(crate) fn snell_k<L: Real>(mu2: L, one_minus_mu2: L, cos2: L) -> L {
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub(crate) fn refract_lanes<L: Real>(dx: L, dy: L, dz: L, nx: L, ny: L, nz: L, mu: L, cos: L, root_k: L) -> [L; 3] {
+    refract_scaled([dx, dy, dz], [nx, ny, nz], mu, cos, root_k, L::splat(1.0))
+}
+
+/// [`refract_lanes`] at the normal `scale N` (`N` not unit: `cos` and
+/// `root_k` are for `scale N`), the scale applied once to the normal's
+/// multiplier rather than to its three parts.
+#[inline(always)]
+pub(crate) fn refract_scaled<L: Real>(d: [L; 3], n: [L; 3], mu: L, cos: L, root_k: L, scale: L) -> [L; 3] {
     let flip = cos.sign_bit();
     let cos_i = cos.xor(flip);
-    let g = (-mu).fma(cos_i, root_k).xor(flip);
-    [mu.fma(dx, g * nx), mu.fma(dy, g * ny), mu.fma(dz, g * nz)]
+    let g = (-mu).fma(cos_i, root_k).xor(flip) * scale;
+    [mu.fma(d[0], g * n[0]), mu.fma(d[1], g * n[1]), mu.fma(d[2], g * n[2])]
 }
 
 /// One surface as a tracing step, in the order of travel.
@@ -476,7 +484,14 @@ impl<L: Real> StepLanes<L> {
     /// aperture.
     #[inline(always)]
     pub(crate) fn inside(&self, x: L, y: L) -> L::Mask {
-        !(self.sd2 - x.fma(x, y * y)).is_neg()
+        self.inside_r2(x.fma(x, y * y))
+    }
+
+    /// [`Self::inside`] for a hit at `r2 = x^2 + y^2` (mm^2, as
+    /// `x.fma(x, y * y)`).
+    #[inline(always)]
+    pub(crate) fn inside_r2(&self, r2: L) -> L::Mask {
+        !(self.sd2 - r2).is_neg()
     }
 
     /// Snell's `k` at this step for the squared cosine of incidence `cos2`.

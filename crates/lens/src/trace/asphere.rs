@@ -340,7 +340,7 @@ pub(crate) struct Newton<L> {
 /// `A t^2 + 2 B t + C = 0`, with `A = c (1 + k dz^2)`,
 /// `B = c (p . d) + k c pz dz - dz` and `C = c |p|^2 + k c pz^2 - 2 pz`, on
 /// the conic's sheet through the vertex (`1 - (1 + k) c z > 0`): the root
-/// where the ray crosses that sheet in its direction of travel ([`front_root`]);
+/// where the ray crosses that sheet in its direction of travel ([`front_parts`]);
 /// where that root is off the sheet, the nearer root if it lies there, else
 /// the other (a strong hyperboloid's second sheet lies close in front of the
 /// vertex); where the line misses the conic, `-C / B` (where it would
@@ -359,13 +359,14 @@ pub(crate) struct ConicRoot<L> {
     /// The conic's `(1 + k) c`, and `pz` from its vertex.
     pub k1c: L,
     pub pz: L,
-    /// `A`, `B` and `C` of the quadratic.
+    /// `A` of the quadratic.
     pub qa: L,
-    pub qb: L,
+    /// The start's root is `-qc / far`: from the surface's own conic `C`
+    /// and `B + s sqrt(B^2 - A C)` (s the sign of B: the nearer root,
+    /// rationalised), from a ring's conic the front root's parts
+    /// ([`front_parts`]).
     pub qc: L,
-    /// `sigma sqrt(B^2 - A C)`, sigma the sign of the ray's `dz` (0 where
-    /// the line misses the conic).
-    pub root: L,
+    pub far: L,
     /// `B^2 - A C`.
     pub disc: L,
 }
@@ -373,7 +374,7 @@ pub(crate) struct ConicRoot<L> {
 /// [`ConicRoot`] for the ray `p + t d`.
 #[inline(always)]
 pub(crate) fn conic_root<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
-    ring_or_start(a, conic_root_of(&start_conic(a, p, d), p, d), p, d)
+    ring_or_start(a, conic_root_of(&start_conic(a, p, d), p, d, a.zones.is_some()), p, d)
 }
 
 /// `ring` (the root of a ray's ring's conic), but the start conic's root
@@ -385,16 +386,16 @@ pub(crate) fn ring_or_start<L: Real>(a: &AsphereLanes<L>, ring: ConicRoot<L>, p:
     if a.zones.is_none() || !missed.any() {
         return ring;
     }
-    let own = conic_root_of(&own_start(a, p[2]), p, d);
-    let pick = |r: L, o: L| L::select(missed, o, r);
+    let own = conic_root_of(&own_start(a, p[2]), p, d, false);
+    // selects written out: a closure called six times may not be inlined
+    // into the batch's AVX2 code (on_sheet's note)
     ConicRoot {
-        k1c: pick(ring.k1c, own.k1c),
-        pz: pick(ring.pz, own.pz),
-        qa: pick(ring.qa, own.qa),
-        qb: pick(ring.qb, own.qb),
-        qc: pick(ring.qc, own.qc),
-        root: pick(ring.root, own.root),
-        disc: pick(ring.disc, own.disc),
+        k1c: L::select(missed, own.k1c, ring.k1c),
+        pz: L::select(missed, own.pz, ring.pz),
+        qa: L::select(missed, own.qa, ring.qa),
+        qc: L::select(missed, own.qc, ring.qc),
+        far: L::select(missed, own.far, ring.far),
+        disc: L::select(missed, own.disc, ring.disc),
     }
 }
 
@@ -439,9 +440,10 @@ pub(crate) fn ring_conic<L: Real>((c, kc, z0): (L, L, L), pz: L) -> StartConic<L
     StartConic { c, kc, k1c: kc + c, pz: pz - z0 }
 }
 
-/// [`conic_root`] from the ray's start conic.
+/// [`conic_root`] from the ray's start conic, its start the front root
+/// where `front` (a ring's conic), else the nearer root.
 #[inline(always)]
-pub(crate) fn conic_root_of<L: Real>(sc: &StartConic<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
+pub(crate) fn conic_root_of<L: Real>(sc: &StartConic<L>, p: [L; 3], d: [L; 3], front: bool) -> ConicRoot<L> {
     let StartConic { c, kc, k1c, pz } = *sc;
     let qa = kc.fma(d[2] * d[2], c);
     // c (p . d) + k c pz dz - dz
@@ -450,42 +452,78 @@ pub(crate) fn conic_root_of<L: Real>(sc: &StartConic<L>, p: [L; 3], d: [L; 3]) -
     let qc = c.fma(pz.fma(pz, p[0].fma(p[0], p[1] * p[1])), (kc * pz).fma(pz, -(pz + pz)));
     let disc = qb.fma(qb, -(qa * qc));
     let root = L::select(disc.is_neg(), L::splat(0.0), disc.sqrt());
-    ConicRoot { k1c, pz, qa, qb, qc, root: root.or(d[2].sign_bit()), disc }
+    let (qc, far) = if front {
+        // -qc / far is the front root
+        let (num, den) = front_parts(qa, qb, qc, root.or(d[2].sign_bit()), d);
+        (-num, den)
+    } else {
+        (qc, qb + root.or(qb.sign_bit()))
+    };
+    ConicRoot { k1c, pz, qa, qc, far, disc }
 }
 
-/// The root of the conic's quadratic (`q`, [`conic_root`]) where the ray of
-/// direction `d` crosses the conic in its direction of travel: where the
+/// The front root of the conic's quadratic `A t^2 + 2 B t + C = 0`
+/// ([`conic_root`]), as a numerator and denominator: where the ray of
+/// direction `d` crosses the conic in its direction of travel, where the
 /// conic's normal `(-c x, -c y, 1 - (1 + k) c z)` has a positive part along
 /// the ray for a ray going towards +z (the sheet through the vertex, met
 /// from its front), so where `G' = 2 (A t + B) = -2 sigma sqrt(B^2 - A C)`:
 /// `t = (-B - sigma sqrt(..)) / A`, with one division, rationalised as
 /// `C / (sigma sqrt(..) - B)` where B's sign is not sigma's (no
 /// cancellation either way). Not finite where the line misses the conic's
-/// front (`A` = 0 with B's sign sigma's: one root, on the back).
+/// front (`A` = 0 with B's sign sigma's: one root, on the back). `root` is
+/// `sigma sqrt(B^2 - A C)`.
 #[inline(always)]
-pub(crate) fn front_root<L: Real>(q: &ConicRoot<L>, d: [L; 3]) -> L {
-    let rationalised = (q.qb * d[2]).le(L::splat(0.0));
-    L::select(rationalised, q.qc, -(q.qb + q.root)) / L::select(rationalised, q.root - q.qb, q.qa)
+fn front_parts<L: Real>(qa: L, qb: L, qc: L, root: L, d: [L; 3]) -> (L, L) {
+    let rationalised = (qb * d[2]).le(L::splat(0.0));
+    (L::select(rationalised, qc, -(qb + root)), L::select(rationalised, root - qb, qa))
+}
+
+/// The nearer root of the conic's quadratic `q` (built for it: `front`
+/// false) where it lies on the vertex sheet, else the other where that
+/// does (a strong hyperboloid's second sheet lies close in front of the
+/// vertex): the other computed only where some lane needs it.
+#[inline(always)]
+fn nearer_or_other<L: Real>(q: &ConicRoot<L>, d: [L; 3]) -> L {
+    let near = -q.qc / q.far;
+    let near_ok = on_sheet(q.k1c, q.pz, near, d);
+    if !(!near_ok).any() {
+        return near;
+    }
+    let other = -q.far / q.qa;
+    L::select(near_ok | !on_sheet(q.k1c, q.pz, other, d) | !other.is_finite(), near, other)
+}
+
+/// Whether the point `u` along the ray (direction `d`, `pz` from the
+/// conic's vertex) lies on the conic's sheet through the vertex (`1 - (1 +
+/// k) c z > 0`). A function, not a closure: a closure called twice may not
+/// be inlined into the batch's AVX2 code, and outside it runs without its
+/// target features.
+#[inline(always)]
+fn on_sheet<L: Real>(k1c: L, pz: L, u: L, d: [L; 3]) -> L::Mask {
+    !(-k1c).fma(u.fma(d[2], pz), L::splat(1.0)).le(L::splat(0.0))
 }
 
 /// [`newton_start`] from the conic's root `q` ([`conic_root`]).
 #[inline(always)]
 pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3], q: &ConicRoot<L>) -> Newton<L> {
     let one = L::splat(1.0);
-    let ConicRoot { k1c, pz, qa, qb, qc, root, disc } = *q;
-    let on_sheet = |u: L| !(-k1c).fma(u.fma(d[2], pz), one).le(L::splat(0.0));
-    let front = front_root(q, d);
-    let front_ok = on_sheet(front) & front.is_finite();
-    // the rare lane whose front root is off the vertex sheet (or missing):
-    // the nearer root where that is on the sheet, else the other
-    let u = if (!front_ok).any() {
-        let far = qb + root.abs().or(qb.sign_bit());
-        let near = -qc / far;
-        let other = -far / qa;
-        let pick = L::select(on_sheet(near) | !on_sheet(other) | !other.is_finite(), near, other);
-        L::select(front_ok, front, pick)
+    let ConicRoot { k1c, pz, qc, far, disc, .. } = *q;
+    let near = -qc / far;
+    let u = if a.zones.is_some() {
+        // the front root of the ray's ring's conic (often an oblate
+        // ellipsoid the ray starts inside, with its nearer root on the far
+        // sheet); the rare lane where that is off the vertex sheet or
+        // missing starts from the surface's own conic, as below
+        let ok = on_sheet(k1c, pz, near, d) & near.is_finite();
+        if (!ok).any() {
+            let own = conic_root_of(&own_start(a, p[2]), p, d, false);
+            L::select(ok, near, nearer_or_other(&own, d))
+        } else {
+            near
+        }
     } else {
-        front
+        nearer_or_other(q, d)
     };
     if a.conic_only {
         // the root is exact (to rounding): done, unless the line misses;
@@ -852,11 +890,11 @@ mod tests {
         // (an ellipsoid 17 mm across): it starts from the sphere's root, as
         // without rings
         let (p, d) = ([0.0, 50.0, -0.5], [0.0, 0.0, 1.0]);
-        let ring = conic_root_of(&start_conic(&ringed, p, d), p, d);
+        let ring = conic_root_of(&start_conic(&ringed, p, d), p, d, true);
         assert!(ring.disc < 0.0, "the ring's conic is met");
         let (start, own) = (conic_root(&ringed, p, d), conic_root(&plain, p, d));
         assert!(
-            start.disc >= 0.0 && start.root.to_bits() == own.root.to_bits() && start.qc.to_bits() == own.qc.to_bits()
+            start.disc >= 0.0 && start.far.to_bits() == own.far.to_bits() && start.qc.to_bits() == own.qc.to_bits()
         );
         let (_, h) = steps(&ringed, p, d);
         let (_, g) = steps(&plain, p, d);
@@ -886,8 +924,8 @@ mod tests {
                 let sigma = if next() < 0.5 { -1.0 } else { 1.0 };
                 let d = [th.sin() * psi.cos(), th.sin() * psi.sin(), sigma * th.cos()];
                 let p = [6.0 * (next() - 0.5), 6.0 * (next() - 0.5), -sigma * (0.5 + 3.0 * next())];
-                let q = conic_root(&a, p, d);
-                let t = front_root(&q, d);
+                let q = conic_root_of(&start_conic(&a, p, d), p, d, true);
+                let t = -q.qc / q.far;
                 if q.disc < 0.0 || !t.is_finite() {
                     continue;
                 }

@@ -755,7 +755,7 @@ fn put_quads<const K: usize>(to: &mut [[f64; 4]; K], v: [F64x4; K]) {
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct NewtonScratch {
-    root: [[[f64; 4]; 7]; VECTORS],
+    root: [[[f64; 4]; 6]; VECTORS],
     state: [[[f64; 4]; 5]; VECTORS],
     eval: [[[f64; 4]; 5]; VECTORS],
     normal: [[[f64; 4]; 4]; VECTORS],
@@ -764,7 +764,7 @@ struct NewtonScratch {
 #[cfg(target_arch = "x86_64")]
 impl NewtonScratch {
     const ZERO: NewtonScratch = NewtonScratch {
-        root: [[[0.0; 4]; 7]; VECTORS],
+        root: [[[0.0; 4]; 6]; VECTORS],
         state: [[[0.0; 4]; 5]; VECTORS],
         eval: [[[0.0; 4]; 5]; VECTORS],
         normal: [[[0.0; 4]; 4]; VECTORS],
@@ -772,13 +772,13 @@ impl NewtonScratch {
 
     #[inline(always)]
     fn put_root(&mut self, j: usize, r: &ConicRoot<F64x4>) {
-        put_quads(&mut self.root[j], [r.k1c, r.pz, r.qa, r.qb, r.qc, r.root, r.disc]);
+        put_quads(&mut self.root[j], [r.k1c, r.pz, r.qa, r.qc, r.far, r.disc]);
     }
 
     #[inline(always)]
     fn root(&self, j: usize) -> ConicRoot<F64x4> {
-        let [k1c, pz, qa, qb, qc, root, disc] = get_quads(&self.root[j]);
-        ConicRoot { k1c, pz, qa, qb, qc, root, disc }
+        let [k1c, pz, qa, qc, far, disc] = get_quads(&self.root[j]);
+        ConicRoot { k1c, pz, qa, qc, far, disc }
     }
 
     #[inline(always)]
@@ -876,7 +876,7 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, co
         for j in 0..n {
             let (p, d) = ray(j);
             let [c, kc, k1c, pz] = get_quads((&nw.root[j][..4]).try_into().expect("four"));
-            let ring = conic_root_of(&StartConic { c, kc, k1c, pz }, p, d);
+            let ring = conic_root_of(&StartConic { c, kc, k1c, pz }, p, d, true);
             nw.put_root(j, &ring_or_start(a, ring, p, d));
         }
     } else {

@@ -211,9 +211,11 @@ impl<L: Real> AsphereLanes<L> {
         Self::with_zones(c, asphere, sd2, rings_of(c, asphere, sd2))
     }
 
-    /// [`Self::of`] with the rings `zones` ([`rings_of`]'s, made once per
-    /// step: both paths must start from the same rings, and they take a
-    /// few thousand sag evaluations to make).
+    /// The kernel's numbers for `asphere` on a base of curvature `c`, its
+    /// clear radius squared `sd2` (mm^2, infinity for none), with the rings
+    /// `zones` ([`rings_of`]'s, made once per step: both paths must start
+    /// from the same rings, and they take a few thousand sag evaluations to
+    /// make).
     pub(crate) fn with_zones(c: f64, asphere: &Asphere, sd2: f64, zones: Option<Zones>) -> Self {
         let a = |j: usize| if j <= MAX_ASPHERE_POWER { asphere.coefficients[j - 1] } else { 0.0 };
         const HALF: usize = MAX_ASPHERE_POWER / 2;
@@ -339,12 +341,14 @@ pub(crate) struct Newton<L> {
 /// asphere's frame) with the asphere `a`: a root of the conic's quadratic
 /// `A t^2 + 2 B t + C = 0`, with `A = c (1 + k dz^2)`,
 /// `B = c (p . d) + k c pz dz - dz` and `C = c |p|^2 + k c pz^2 - 2 pz`, on
-/// the conic's sheet through the vertex (`1 - (1 + k) c z > 0`): the root
-/// where the ray crosses that sheet in its direction of travel ([`front_parts`]);
-/// where that root is off the sheet, the nearer root if it lies there, else
-/// the other (a strong hyperboloid's second sheet lies close in front of the
-/// vertex); where the line misses the conic, `-C / B` (where it would
-/// touch it).
+/// the conic's sheet through the vertex (`1 - (1 + k) c z > 0`). From the
+/// surface's own conic the nearer root, rationalised (`-C / (B + s R)`, `R`
+/// the discriminant's square root, s the sign of B), where it lies on that
+/// sheet, else the other (a strong hyperboloid's second sheet lies close in
+/// front of the vertex); from a ray's ring's conic (`zones.rs`) the root
+/// where the ray crosses it in its direction of travel ([`front_parts`]), or
+/// the own conic's where that is off the sheet. Where the line misses the
+/// conic, `-C / B` (where it would touch it).
 #[inline(always)]
 pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> Newton<L> {
     newton_start_from(a, p, d, &conic_root(a, p, d))

@@ -43,7 +43,7 @@ const SEGMENTS: usize = 1024;
 pub struct WavelengthRange {
     /// Wavelength at CDF value k / 1024, k = 0..=1024.
     nm: Arc<[f64]>,
-    /// The density over step k, 1/nm: 1 / (1024 (nm[k + 1] - nm[k])).
+    /// The density over step k, 1/nm: `1 / (1024 (nm[k + 1] - nm[k]))`.
     pdf: Arc<[f64]>,
 }
 

@@ -57,11 +57,7 @@ impl<L: Real> Chain<L> {
             return self.at(s);
         }
         debug_assert!(self.n <= N);
-        let mut p = self.c[N - 1];
-        for i in (0..N - 1).rev() {
-            p = p.fma(s, self.c[i]);
-        }
-        p
+        self.first(N, s)
     }
 
     /// [`Self::at_len`] with `N - 1` terms (the chain `V`, a term shorter
@@ -72,8 +68,15 @@ impl<L: Real> Chain<L> {
             return self.at(s);
         }
         debug_assert!(N >= 2 && self.n < N);
-        let mut p = self.c[N - 2];
-        for i in (0..N - 2).rev() {
+        self.first(N - 1, s)
+    }
+
+    /// The first `len` (>= 1) terms at `s` by Horner's rule; `len` a
+    /// constant where it is called, the loop unrolls.
+    #[inline(always)]
+    fn first(&self, len: usize, s: L) -> L {
+        let mut p = self.c[len - 1];
+        for i in (0..len - 1).rev() {
             p = p.fma(s, self.c[i]);
         }
         p
@@ -89,13 +92,7 @@ impl<L: Real> Chain<L> {
             2 => self.c[1].fma(s, self.c[0]),
             3 => self.c[2].fma(s, self.c[1]).fma(s, self.c[0]),
             4 => self.c[3].fma(s, self.c[2]).fma(s, self.c[1]).fma(s, self.c[0]),
-            _ => {
-                let mut p = self.c[self.n - 1];
-                for i in (0..self.n - 1).rev() {
-                    p = p.fma(s, self.c[i]);
-                }
-                p
-            }
+            n => self.first(n, s),
         }
     }
 }

@@ -651,15 +651,12 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     let mut bits = Bits::default();
     if let (ASPHERE, Some(asph)) = (SHAPE, &aspheres[k]) {
-        // direct calls, each inlined into this AVX2 function (a function
-        // pointer would lose its target features)
-        let b = &mut bits;
-        match (asph.third_order(), asph.chain_terms()) {
-            (false, _) => asphere_chunk::<REFRACT, PER_RAY, false, 0>(s, &sl, asph, src, dst, n, ix, b, newton),
-            (true, 4) => asphere_chunk::<REFRACT, PER_RAY, true, 4>(s, &sl, asph, src, dst, n, ix, b, newton),
-            (true, 5) => asphere_chunk::<REFRACT, PER_RAY, true, 5>(s, &sl, asph, src, dst, n, ix, b, newton),
-            (true, 6) => asphere_chunk::<REFRACT, PER_RAY, true, 6>(s, &sl, asph, src, dst, n, ix, b, newton),
-            (true, _) => asphere_chunk::<REFRACT, PER_RAY, true, 8>(s, &sl, asph, src, dst, n, ix, b, newton),
+        if wide_registers() {
+            // SAFETY: the CPU has AVX-512F and VL (checked by wide_registers)
+            // besides AVX2 and FMA (this function's own features).
+            unsafe { asphere_chunk_evex::<REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits, newton) }
+        } else {
+            asphere_chunk_of::<REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits, newton)
         }
     } else {
         if SHAPE != PLANE {
@@ -742,6 +739,67 @@ fn get_quads<const K: usize>(from: &[[f64; 4]; K]) -> [F64x4; K] {
 fn put_quads<const K: usize>(to: &mut [[f64; 4]; K], v: [F64x4; K]) {
     for (t, v) in to.iter_mut().zip(v) {
         v.store(t);
+    }
+}
+
+/// Whether this CPU has AVX-512F and AVX-512VL (detected once, cached by
+/// the standard library): the asphere step then runs with 32 vector
+/// registers instead of 16 ([`asphere_chunk_evex`]).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+fn wide_registers() -> bool {
+    std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512vl")
+}
+
+/// [`asphere_chunk_of`] compiled with AVX-512VL: the same four-lane
+/// instructions, encoded so that they may use 32 registers instead of 16.
+/// The asphere's loops keep more numbers live than 16 registers hold; the
+/// sphere step's do not, and ran slower compiled this way
+/// (docs/performance.md), so only the asphere step is.
+///
+/// # Safety
+///
+/// The CPU must have AVX2, FMA, AVX-512F and AVX-512VL.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn asphere_chunk_evex<const REFRACT: bool, const PER_RAY: bool>(
+    s: &Step,
+    sl: &StepLanes<F64x4>,
+    a: &AsphereLanes<F64x4>,
+    src: &Rays4,
+    dst: &mut Rays4,
+    n: usize,
+    ix: &ChunkIndices,
+    bits: &mut Bits,
+    nw: &mut NewtonScratch,
+) {
+    asphere_chunk_of::<REFRACT, PER_RAY>(s, sl, a, src, dst, n, ix, bits, nw)
+}
+
+/// [`asphere_chunk`] for the surface `a`'s kind of step: direct calls, each
+/// inlined into the calling function with its target features (a function
+/// pointer would lose them).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn asphere_chunk_of<const REFRACT: bool, const PER_RAY: bool>(
+    s: &Step,
+    sl: &StepLanes<F64x4>,
+    a: &AsphereLanes<F64x4>,
+    src: &Rays4,
+    dst: &mut Rays4,
+    n: usize,
+    ix: &ChunkIndices,
+    b: &mut Bits,
+    nw: &mut NewtonScratch,
+) {
+    match (a.third_order(), a.chain_terms()) {
+        (false, _) => asphere_chunk::<REFRACT, PER_RAY, false, 0>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, 4) => asphere_chunk::<REFRACT, PER_RAY, true, 4>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, 5) => asphere_chunk::<REFRACT, PER_RAY, true, 5>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, 6) => asphere_chunk::<REFRACT, PER_RAY, true, 6>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, _) => asphere_chunk::<REFRACT, PER_RAY, true, 8>(s, sl, a, src, dst, n, ix, b, nw),
     }
 }
 

@@ -36,6 +36,18 @@ impl F64x4 {
         F64x4(unsafe { _mm256_loadu_pd(s.as_ptr()) })
     }
 
+    /// The register itself (for the eight-lane type's halves).
+    #[inline(always)]
+    pub(crate) fn raw(self) -> __m256d {
+        self.0
+    }
+
+    /// Four lanes from a register.
+    #[inline(always)]
+    pub(crate) fn from_raw(v: __m256d) -> Self {
+        F64x4(v)
+    }
+
     /// Stores the four lanes into `s[0..4]`.
     #[inline(always)]
     pub(crate) fn store(self, s: &mut [f64; 4]) {

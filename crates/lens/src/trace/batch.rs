@@ -1,18 +1,20 @@
 //! Tracing many rays at once. On x86-64 with AVX2 and FMA the rays go a
-//! chunk at a time: structure of arrays, surfaces in the outer loop, four
-//! rays per vector in the inner loop, every lane computed without masking
-//! and stopped rays set aside on a rare path. Elsewhere each ray takes the
-//! one-ray path. Either way the results are bit-for-bit those of
-//! [`Tracer::trace`]: both run the same per-surface kernel, written once
+//! chunk at a time: structure of arrays, surfaces in the outer loop, the
+//! chunk's vectors in the inner loop (eight rays a vector where the CPU also
+//! has AVX-512F and VL, four elsewhere), every lane computed without
+//! masking and stopped rays set aside on a rare path. Elsewhere each ray
+//! takes the one-ray path. Either way the results are bit-for-bit those of
+//! [`Tracer::trace`]: all run the same per-surface kernel, written once
 //! over the lane type of `lanes.rs`.
 //!
-//! Longer than most files (about 850 lines) on purpose: the batch's data
+//! Longer than most files (about 1100 lines) on purpose: the batch's data
 //! (`RayBatch`), its chunk buffers, the two AVX2 drivers (structure of
 //! arrays, slice of rays; the first also with each ray's own indices, for
-//! `spectral.rs`) and the aspheric step's lock-step driver (`asphere_chunk`,
-//! whose per-lane arithmetic is `asphere.rs`'s) share the chunk's layout and
-//! its invariants (idle lanes, statuses, the frame of each buffer), which
-//! read best in one place.
+//! `spectral.rs`), the sphere's and the aspheric step's loops over a chunk
+//! (`sphere_chunk`, `asphere_chunk`: the latter a lock-step driver whose
+//! per-lane arithmetic is `asphere.rs`'s) at either width share the chunk's
+//! layout and its invariants (idle lanes, statuses, the frame of each
+//! buffer), which read best in one place.
 
 use super::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]
@@ -26,7 +28,9 @@ use super::step::{Lane, KIND_BITS, KIND_MASK, PASSED};
 use super::tracer::Tracer;
 use crate::error::OpticsError;
 #[cfg(target_arch = "x86_64")]
-use crate::simd::avx2::F64x4;
+use crate::simd::avx2::{F64x4, M64x4};
+#[cfg(target_arch = "x86_64")]
+use crate::simd::avx512::{F64x8, M64x8};
 #[cfg(target_arch = "x86_64")]
 use crate::simd::lanes::Real;
 #[cfg(target_arch = "x86_64")]
@@ -39,7 +43,7 @@ use crate::trace::asphere::{
 use crate::trace::step::StepOut;
 use crate::trace::step::NOT_CONVERGED;
 #[cfg(target_arch = "x86_64")]
-use crate::trace::step::{approach, Approach};
+use crate::trace::step::{self, Approach};
 use glam::DVec3;
 
 /// Rays as a structure of arrays (global frame, mm). After
@@ -219,7 +223,8 @@ fn prefetch_lines<T>(p: *const T, n: usize) {
     }
 }
 
-/// Rays in groups of four (one AVX2 vector each), structure of arrays.
+/// Rays in groups of four (one AVX2 vector each; two make one AVX-512
+/// vector), structure of arrays.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct Rays4 {
@@ -282,12 +287,18 @@ struct Chunk {
     status: [[u64; 4]; VECTORS],
     /// Each vector's closest approach to a sphere, between the step's two
     /// loops.
-    approach: [Approach4; VECTORS],
+    approach: [f64; CHUNK * 4],
     /// Bit `i` set while ray `i` travels.
     alive: u64,
+    /// The CPU has AVX-512F and VL: every step takes eight rays a vector
+    /// ([`wide_registers`]).
+    wide: bool,
     /// Each step's asphere in the kernel's number type, made once per trace
     /// ([`Chunk::for_tracer`]), `None` for the other steps.
     aspheres: Vec<Option<AsphereLanes<F64x4>>>,
+    /// The same in eight lanes, where the CPU has AVX-512F and VL (empty
+    /// elsewhere): an asphere step then takes eight rays a vector.
+    aspheres8: Vec<Option<AsphereLanes<F64x8>>>,
     /// An asphere step's numbers between its loops.
     newton: NewtonScratch,
 }
@@ -306,30 +317,20 @@ struct Bits {
     inside: u64,
 }
 
-/// What the first loop of a sphere step leaves the second for four rays.
-#[cfg(target_arch = "x86_64")]
-#[derive(Clone, Copy)]
-struct Approach4 {
-    t0: [f64; 4],
-    f: [f64; 4],
-    g: [f64; 4],
-    disc: [f64; 4],
-}
-
 #[cfg(target_arch = "x86_64")]
 impl Chunk {
     fn new() -> Box<Self> {
         let v = [[0.0; 4]; VECTORS];
         let rays = Rays4 { x: v, y: v, z: v, dx: v, dy: v, dz: v, opl: v };
-        let a = [0.0; 4];
-        let approach = [Approach4 { t0: a, f: a, g: a, disc: a }; VECTORS];
         Box::new(Chunk {
             live: [rays; 2],
             done: rays,
             status: [[0; 4]; VECTORS],
-            approach,
+            approach: [0.0; CHUNK * 4],
             alive: 0,
+            wide: false,
             aspheres: Vec::new(),
+            aspheres8: Vec::new(),
             newton: NewtonScratch::ZERO,
         })
     }
@@ -340,6 +341,11 @@ impl Chunk {
         let mut c = Chunk::new();
         c.aspheres =
             t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect();
+        c.wide = wide_registers();
+        if c.wide {
+            // SAFETY: the CPU has AVX-512F and VL (checked by wide_registers).
+            c.aspheres8 = unsafe { wide_aspheres(t) };
+        }
         c
     }
 
@@ -372,10 +378,11 @@ impl Chunk {
         !self.alive & (u64::MAX >> (64 - m))
     }
 
-    /// Pads rays `m..` up to a whole vector with idle lanes and marks the
+    /// Pads rays `m..` up to a whole pair of vectors with idle lanes and marks the
     /// travelling rays alive; returns the number of vectors.
     fn pad(&mut self, m: usize) -> usize {
-        let n = m.div_ceil(4);
+        // whole pairs of vectors: the eight-lane asphere step reads two
+        let n = m.div_ceil(8) * 2;
         for i in m..n * 4 {
             self.put(i, IDLE, u64::MAX);
         }
@@ -607,35 +614,78 @@ impl Tracer {
     }
 }
 
-/// The first loop of a sphere step for vector `j` of `rays`: the closest
-/// approach, kept in `to`.
+/// [`sphere_chunk`] eight rays a vector, over the chunk's first `n`
+/// eight-ray vectors.
+///
+/// # Safety
+///
+/// The CPU must have AVX2, FMA, AVX-512F and AVX-512VL.
 #[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn approach_vector(sl: &StepLanes<F64x4>, rays: &Rays4, j: usize, to: &mut Approach4) {
-    let a = approach(
-        sl.c,
-        F64x4::load(&rays.x[j]),
-        F64x4::load(&rays.y[j]),
-        F64x4::load(&rays.z[j]) - sl.shift,
-        F64x4::load(&rays.dx[j]),
-        F64x4::load(&rays.dy[j]),
-        F64x4::load(&rays.dz[j]),
-    );
-    a.t0.store(&mut to.t0);
-    a.f.store(&mut to.f);
-    a.g.store(&mut to.g);
-    a.disc.store(&mut to.disc);
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn sphere_chunk_wide<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
+    s: &Step,
+    src: &Rays4,
+    dst: &mut Rays4,
+    n: usize,
+    ix: &ChunkIndices,
+    bits: &mut Bits,
+    approach: &mut [f64; CHUNK * 4],
+) {
+    let sl = StepLanes::<F64x8>::of(s);
+    sphere_chunk::<F64x8, REFRACT, SHAPE, PER_RAY>(s, &sl, src, dst, n, ix, bits, approach)
 }
 
-/// Step `k` applied to the first `n` vectors of a chunk, four rays per
-/// vector, from `live[k % 2]` into the other buffer, every lane computed and
-/// stored without masking. Rays that stopped are recorded after the loop,
-/// on a rare path ([`stop_rays`]).
+/// A sphere or plane step over the first `n` vectors of a chunk (`W::N`
+/// rays a vector), every lane computed and stored without masking.
 ///
 /// A sphere takes two loops over the chunk, split before the square roots:
-/// the closest approach ([`approach_vector`]), then the rest. Each loop's
+/// the closest approach (kept in `approach`), then the rest. Each loop's
 /// chain of dependent operations is short enough that the processor runs
 /// several vectors at once (docs/performance.md).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn sphere_chunk<W: Wide, const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
+    s: &Step,
+    sl: &StepLanes<W>,
+    src: &Rays4,
+    dst: &mut Rays4,
+    n: usize,
+    ix: &ChunkIndices,
+    bits: &mut Bits,
+    approach: &mut [f64; CHUNK * 4],
+) {
+    if SHAPE != PLANE {
+        for j in 0..n {
+            let (p, d, _) = load_rays::<W>(src, j);
+            let a = step::approach(sl.c, p[0], p[1], p[2] - sl.shift, d[0], d[1], d[2]);
+            put_vectors(approach, j, [a.t0, a.f, a.g, a.disc]);
+        }
+    }
+    for j in 0..n {
+        // each ray's own indices (a batch of mixed wavelengths)
+        let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
+        let (p, d, opl) = load_rays::<W>(src, j);
+        let out = if SHAPE == PLANE {
+            step_lanes::<W, REFRACT, PLANE>(
+                &sl,
+                Lane { px: p[0], py: p[1], pz: p[2], dx: d[0], dy: d[1], dz: d[2], opl },
+            )
+        } else {
+            let [t0, f, g, disc] = get_vectors(approach, j);
+            let p = [p[0], p[1], p[2] - sl.shift];
+            sphere_from_approach::<W, REFRACT, SHAPE>(&sl, &Approach { t0, f, g, disc }, p, d, opl)
+        };
+        store_out(dst, j, &out, bits);
+    }
+}
+
+/// Step `k` applied to the first `n` four-ray vectors of a chunk, from
+/// `live[k % 2]` into the other buffer: eight rays a vector where the CPU
+/// has AVX-512 (`c.wide`), else four; a sphere or plane by
+/// [`sphere_chunk`], an asphere by [`asphere_chunk`]. Rays that stopped are
+/// recorded after the loops, on a rare path ([`stop_rays`]).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
@@ -647,47 +697,23 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
 ) {
     let sl = StepLanes::<F64x4>::of(s);
     let n = n.min(VECTORS);
-    let Chunk { live: [a, b], done, status, approach, alive, aspheres, newton } = c;
+    let Chunk { live: [a, b], done, status, approach, alive, wide, aspheres, aspheres8, newton } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     let mut bits = Bits::default();
     if let (ASPHERE, Some(asph)) = (SHAPE, &aspheres[k]) {
-        if wide_registers() {
-            // SAFETY: the CPU has AVX-512F and VL (checked by wide_registers)
-            // besides AVX2 and FMA (this function's own features).
-            unsafe { asphere_chunk_evex::<REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits, newton) }
+        if let Some(Some(a8)) = aspheres8.get(k) {
+            // SAFETY: `aspheres8` is filled only where the CPU has AVX-512F
+            // and VL (Chunk::for_tracer); AVX2 and FMA are this function's.
+            unsafe { asphere_chunk_wide::<REFRACT, PER_RAY>(s, a8, src, dst, n.div_ceil(2), ix, &mut bits, newton) }
         } else {
-            asphere_chunk_of::<REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits, newton)
+            asphere_chunk_of::<F64x4, REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits, newton)
         }
+    } else if *wide {
+        // SAFETY: `wide` is set only where the CPU has AVX-512F and VL
+        // (Chunk::for_tracer); AVX2 and FMA are this function's.
+        unsafe { sphere_chunk_wide::<REFRACT, SHAPE, PER_RAY>(s, src, dst, n.div_ceil(2), ix, &mut bits, approach) }
     } else {
-        if SHAPE != PLANE {
-            for (j, to) in approach[..n].iter_mut().enumerate() {
-                approach_vector(&sl, src, j, to);
-            }
-        }
-        // j indexes a dozen arrays in step
-        #[allow(clippy::needless_range_loop)]
-        for j in 0..n {
-            // each ray's own indices (a batch of mixed wavelengths)
-            let sl = if PER_RAY { lanes_at(sl, s, &ix.vector(j)) } else { sl };
-            let (p, d, opl) = load_rays(src, j);
-            let out = if SHAPE == PLANE {
-                step_lanes::<F64x4, REFRACT, PLANE>(
-                    &sl,
-                    Lane { px: p[0], py: p[1], pz: p[2], dx: d[0], dy: d[1], dz: d[2], opl },
-                )
-            } else {
-                let st = &approach[j];
-                let p = [p[0], p[1], p[2] - sl.shift];
-                let a = Approach {
-                    t0: F64x4::load(&st.t0),
-                    f: F64x4::load(&st.f),
-                    g: F64x4::load(&st.g),
-                    disc: F64x4::load(&st.disc),
-                };
-                sphere_from_approach::<F64x4, REFRACT, SHAPE>(&sl, &a, p, d, opl)
-            };
-            store_out(dst, j, &out, &mut bits);
-        }
+        sphere_chunk::<F64x4, REFRACT, SHAPE, PER_RAY>(s, &sl, src, dst, n, ix, &mut bits, approach);
     }
     let dying = *alive & bits.failed;
     if dying != 0 {
@@ -696,66 +722,133 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
     }
 }
 
+/// A vector of rays: four lanes (AVX2) or eight (AVX-512), read from and
+/// written to a chunk's arrays (each `CHUNK` numbers, vector `j` at lanes
+/// `j N .. (j + 1) N`).
+#[cfg(target_arch = "x86_64")]
+pub(super) trait Wide: Real {
+    /// Lanes per vector.
+    const N: usize;
+    /// Vector `j` of `s`.
+    fn at(s: &[f64], j: usize) -> Self;
+    /// Stores into vector `j` of `s`.
+    fn put(self, s: &mut [f64], j: usize);
+    /// One bit per lane of `m`, lane 0 the lowest.
+    fn mask_bits(m: Self::Mask) -> u64;
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Wide for F64x4 {
+    const N: usize = 4;
+    #[inline(always)]
+    fn at(s: &[f64], j: usize) -> Self {
+        F64x4::load(s[4 * j..].first_chunk().expect("a whole vector"))
+    }
+    #[inline(always)]
+    fn put(self, s: &mut [f64], j: usize) {
+        self.store(s[4 * j..].first_chunk_mut().expect("a whole vector"));
+    }
+    #[inline(always)]
+    fn mask_bits(m: M64x4) -> u64 {
+        u64::from(m.bits())
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl Wide for F64x8 {
+    const N: usize = 8;
+    #[inline(always)]
+    fn at(s: &[f64], j: usize) -> Self {
+        F64x8::load(s[8 * j..].first_chunk().expect("a whole vector"))
+    }
+    #[inline(always)]
+    fn put(self, s: &mut [f64], j: usize) {
+        self.store(s[8 * j..].first_chunk_mut().expect("a whole vector"));
+    }
+    #[inline(always)]
+    fn mask_bits(m: M64x8) -> u64 {
+        u64::from(m.bits())
+    }
+}
+
 /// Vector `j` of `rays`: points, directions, path lengths.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn load_rays(rays: &Rays4, j: usize) -> ([F64x4; 3], [F64x4; 3], F64x4) {
-    let p = [F64x4::load(&rays.x[j]), F64x4::load(&rays.y[j]), F64x4::load(&rays.z[j])];
-    let d = [F64x4::load(&rays.dx[j]), F64x4::load(&rays.dy[j]), F64x4::load(&rays.dz[j])];
-    (p, d, F64x4::load(&rays.opl[j]))
+fn load_rays<W: Wide>(rays: &Rays4, j: usize) -> ([W; 3], [W; 3], W) {
+    let at = |a: &[[f64; 4]; VECTORS]| W::at(a.as_flattened(), j);
+    ([at(&rays.x), at(&rays.y), at(&rays.z)], [at(&rays.dx), at(&rays.dy), at(&rays.dz)], at(&rays.opl))
 }
 
 /// Stores a step's result for vector `j` into `dst` and its verdicts into
 /// `bits`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn store_out(dst: &mut Rays4, j: usize, out: &StepOut<F64x4>, bits: &mut Bits) {
+fn store_out<W: Wide>(dst: &mut Rays4, j: usize, out: &StepOut<W>, bits: &mut Bits) {
     let o = out.next;
-    o.px.store(&mut dst.x[j]);
-    o.py.store(&mut dst.y[j]);
-    o.pz.store(&mut dst.z[j]);
-    o.dx.store(&mut dst.dx[j]);
-    o.dy.store(&mut dst.dy[j]);
-    o.dz.store(&mut dst.dz[j]);
-    o.opl.store(&mut dst.opl[j]);
+    o.px.put(dst.x.as_flattened_mut(), j);
+    o.py.put(dst.y.as_flattened_mut(), j);
+    o.pz.put(dst.z.as_flattened_mut(), j);
+    o.dx.put(dst.dx.as_flattened_mut(), j);
+    o.dy.put(dst.dy.as_flattened_mut(), j);
+    o.dz.put(dst.dz.as_flattened_mut(), j);
+    o.opl.put(dst.opl.as_flattened_mut(), j);
     let v = out.verdict;
-    bits.failed |= u64::from(!v.passed.bits() & 15) << (4 * j);
-    bits.ok |= u64::from(v.ok.bits()) << (4 * j);
-    bits.converged |= u64::from(v.converged.bits()) << (4 * j);
-    bits.inside |= u64::from(v.inside.bits()) << (4 * j);
+    let (all, at) = (u64::MAX >> (64 - W::N), W::N * j);
+    bits.failed |= (!W::mask_bits(v.passed) & all) << at;
+    bits.ok |= W::mask_bits(v.ok) << at;
+    bits.converged |= W::mask_bits(v.converged) << at;
+    bits.inside |= W::mask_bits(v.inside) << at;
 }
 
-/// Four lanes of `K` numbers, from `from`.
+/// `K` vectors stored one after another for each vector `j`: vector `j`'s
+/// `k`-th is vector `j K + k` of `from`.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn get_quads<const K: usize>(from: &[[f64; 4]; K]) -> [F64x4; K] {
-    // by index: `map` would copy the array first
-    std::array::from_fn(|k| F64x4::load(&from[k]))
+fn get_vectors<W: Wide, const K: usize>(from: &[f64], j: usize) -> [W; K] {
+    std::array::from_fn(|k| W::at(from, j * K + k))
 }
 
-/// Stores `K` vectors of four lanes into `to`.
+/// Stores `v` as [`get_vectors`] reads it.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn put_quads<const K: usize>(to: &mut [[f64; 4]; K], v: [F64x4; K]) {
-    for (t, v) in to.iter_mut().zip(v) {
-        v.store(t);
+fn put_vectors<W: Wide, const K: usize>(to: &mut [f64], j: usize, v: [W; K]) {
+    for (k, v) in v.into_iter().enumerate() {
+        v.put(to, j * K + k);
     }
 }
 
-/// Whether this CPU has AVX-512F and AVX-512VL (detected once, cached by
-/// the standard library): the asphere step then runs with 32 vector
-/// registers instead of 16 ([`asphere_chunk_evex`]).
+/// Whether the batch takes eight rays a vector: the CPU has AVX-512F and
+/// AVX-512VL (detected once, cached by the standard library) and the
+/// environment variable `LENS_SIMD` is not `avx2` (which keeps the four-lane
+/// kernels, to compare the two: docs/performance.md). Both give the same
+/// bits.
 #[cfg(target_arch = "x86_64")]
 #[inline]
-fn wide_registers() -> bool {
-    std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512vl")
+pub(super) fn wide_registers() -> bool {
+    static FOUR_LANES: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    #[cfg(test)]
+    if tests::NARROW.with(|n| n.get()) {
+        return false;
+    }
+    std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx512vl")
+        && !*FOUR_LANES.get_or_init(|| std::env::var("LENS_SIMD").is_ok_and(|v| v == "avx2"))
 }
 
-/// [`asphere_chunk_of`] compiled with AVX-512VL: the same four-lane
-/// instructions, encoded so that they may use 32 registers instead of 16.
-/// The asphere's loops keep more numbers live than 16 registers hold; the
-/// sphere step's do not, and ran slower compiled this way
-/// (docs/performance.md), so only the asphere step is.
+/// Each step's asphere in eight lanes (`None` for the other steps), made
+/// where those lanes can be.
+///
+/// # Safety
+///
+/// The CPU must have AVX2, FMA, AVX-512F and AVX-512VL.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+unsafe fn wide_aspheres(t: &Tracer) -> Vec<Option<AsphereLanes<F64x8>>> {
+    t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect()
+}
+
+/// [`asphere_chunk`] eight rays a vector, over the chunk's first `n`
+/// eight-ray vectors.
 ///
 /// # Safety
 ///
@@ -763,10 +856,9 @@ fn wide_registers() -> bool {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn asphere_chunk_evex<const REFRACT: bool, const PER_RAY: bool>(
+unsafe fn asphere_chunk_wide<const REFRACT: bool, const PER_RAY: bool>(
     s: &Step,
-    sl: &StepLanes<F64x4>,
-    a: &AsphereLanes<F64x4>,
+    a: &AsphereLanes<F64x8>,
     src: &Rays4,
     dst: &mut Rays4,
     n: usize,
@@ -774,7 +866,8 @@ unsafe fn asphere_chunk_evex<const REFRACT: bool, const PER_RAY: bool>(
     bits: &mut Bits,
     nw: &mut NewtonScratch,
 ) {
-    asphere_chunk_of::<REFRACT, PER_RAY>(s, sl, a, src, dst, n, ix, bits, nw)
+    let sl = StepLanes::<F64x8>::of(s);
+    asphere_chunk_of::<F64x8, REFRACT, PER_RAY>(s, &sl, a, src, dst, n, ix, bits, nw)
 }
 
 /// [`asphere_chunk`] for the surface `a`'s kind of step: direct calls, each
@@ -783,10 +876,10 @@ unsafe fn asphere_chunk_evex<const REFRACT: bool, const PER_RAY: bool>(
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn asphere_chunk_of<const REFRACT: bool, const PER_RAY: bool>(
+fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
     s: &Step,
-    sl: &StepLanes<F64x4>,
-    a: &AsphereLanes<F64x4>,
+    sl: &StepLanes<W>,
+    a: &AsphereLanes<W>,
     src: &Rays4,
     dst: &mut Rays4,
     n: usize,
@@ -795,11 +888,11 @@ fn asphere_chunk_of<const REFRACT: bool, const PER_RAY: bool>(
     nw: &mut NewtonScratch,
 ) {
     match (a.third_order(), a.chain_terms()) {
-        (false, _) => asphere_chunk::<REFRACT, PER_RAY, false, 0>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, 4) => asphere_chunk::<REFRACT, PER_RAY, true, 4>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, 5) => asphere_chunk::<REFRACT, PER_RAY, true, 5>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, 6) => asphere_chunk::<REFRACT, PER_RAY, true, 6>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, _) => asphere_chunk::<REFRACT, PER_RAY, true, 8>(s, sl, a, src, dst, n, ix, b, nw),
+        (false, _) => asphere_chunk::<W, REFRACT, PER_RAY, false, 0>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, 4) => asphere_chunk::<W, REFRACT, PER_RAY, true, 4>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, 5) => asphere_chunk::<W, REFRACT, PER_RAY, true, 5>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, 6) => asphere_chunk::<W, REFRACT, PER_RAY, true, 6>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, _) => asphere_chunk::<W, REFRACT, PER_RAY, true, 8>(s, sl, a, src, dst, n, ix, b, nw),
     }
 }
 
@@ -809,88 +902,88 @@ fn asphere_chunk_of<const REFRACT: bool, const PER_RAY: bool>(
 /// passes), a pass's evaluation (until its division) and the hit's normal
 /// (until the refraction). Only what the surface's kind of step reads is
 /// stored: a third-order step's hit evaluates its own normal, so neither
-/// its state nor its evaluation keeps `Q` and `m`.
+/// its state nor its evaluation keeps `Q` and `m`. Each array holds, for
+/// each vector in turn, its numbers one vector after another
+/// ([`get_vectors`]), whatever the vector's width.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct NewtonScratch {
-    root: [[[f64; 4]; 6]; VECTORS],
-    state: [[[f64; 4]; 5]; VECTORS],
-    eval: [[[f64; 4]; 5]; VECTORS],
-    normal: [[[f64; 4]; 4]; VECTORS],
+    root: [f64; CHUNK * 6],
+    state: [f64; CHUNK * 5],
+    eval: [f64; CHUNK * 5],
+    normal: [f64; CHUNK * 4],
 }
 
 #[cfg(target_arch = "x86_64")]
 impl NewtonScratch {
     const ZERO: NewtonScratch = NewtonScratch {
-        root: [[[0.0; 4]; 6]; VECTORS],
-        state: [[[0.0; 4]; 5]; VECTORS],
-        eval: [[[0.0; 4]; 5]; VECTORS],
-        normal: [[[0.0; 4]; 4]; VECTORS],
+        root: [0.0; CHUNK * 6],
+        state: [0.0; CHUNK * 5],
+        eval: [0.0; CHUNK * 5],
+        normal: [0.0; CHUNK * 4],
     };
 
     #[inline(always)]
-    fn put_root(&mut self, j: usize, r: &ConicRoot<F64x4>) {
-        put_quads(&mut self.root[j], [r.k1c, r.pz, r.qa, r.qc, r.far, r.disc]);
+    fn put_root<W: Wide>(&mut self, j: usize, r: &ConicRoot<W>) {
+        put_vectors(&mut self.root, j, [r.k1c, r.pz, r.qa, r.qc, r.far, r.disc]);
     }
 
     #[inline(always)]
-    fn root(&self, j: usize) -> ConicRoot<F64x4> {
-        let [k1c, pz, qa, qc, far, disc] = get_quads(&self.root[j]);
+    fn root<W: Wide>(&self, j: usize) -> ConicRoot<W> {
+        let [k1c, pz, qa, qc, far, disc] = get_vectors(&self.root, j);
         ConicRoot { k1c, pz, qa, qc, far, disc }
     }
 
     #[inline(always)]
-    fn put_state<const THIRD: bool>(&mut self, j: usize, n: &Newton<F64x4>) {
-        let to = &mut self.state[j];
-        n.u.store(&mut to[0]);
-        n.converged.store(&mut to[1]);
-        n.missed.store(&mut to[2]);
+    fn put_state<W: Wide, const THIRD: bool>(&mut self, j: usize, n: &Newton<W>) {
+        let to = &mut self.state;
+        n.u.put(to, 5 * j);
+        n.converged.put(to, 5 * j + 1);
+        n.missed.put(to, 5 * j + 2);
         if !THIRD {
-            n.q.store(&mut to[3]);
-            n.m.store(&mut to[4]);
+            n.q.put(to, 5 * j + 3);
+            n.m.put(to, 5 * j + 4);
         }
     }
 
     /// Vector `j`'s iteration, its rays starting at `p`.
     #[inline(always)]
-    fn state<const THIRD: bool>(&self, j: usize, p: [F64x4; 3]) -> Newton<F64x4> {
-        let from = &self.state[j];
-        let get = |k: usize| F64x4::load(&from[k]);
-        let (q, m) = if THIRD { (F64x4::splat(0.0), F64x4::splat(1.0)) } else { (get(3), get(4)) };
+    fn state<W: Wide, const THIRD: bool>(&self, j: usize, p: [W; 3]) -> Newton<W> {
+        let get = |k: usize| W::at(&self.state, 5 * j + k);
+        let (q, m) = if THIRD { (W::splat(0.0), W::splat(1.0)) } else { (get(3), get(4)) };
         Newton { p, u: get(0), q, m, converged: get(1), missed: get(2) }
     }
 
     #[inline(always)]
-    fn put_eval<const THIRD: bool>(&mut self, j: usize, e: &NewtonEval<F64x4>) {
-        let to = &mut self.eval[j];
-        e.g.store(&mut to[0]);
-        e.gp.store(&mut to[1]);
-        e.domain.store(&mut to[2]);
+    fn put_eval<W: Wide, const THIRD: bool>(&mut self, j: usize, e: &NewtonEval<W>) {
+        let to = &mut self.eval;
+        e.g.put(to, 5 * j);
+        e.gp.put(to, 5 * j + 1);
+        e.domain.put(to, 5 * j + 2);
         if THIRD {
-            e.gpp.store(&mut to[3]);
+            e.gpp.put(to, 5 * j + 3);
         } else {
-            e.q.store(&mut to[3]);
-            e.m.store(&mut to[4]);
+            e.q.put(to, 5 * j + 3);
+            e.m.put(to, 5 * j + 4);
         }
     }
 
     #[inline(always)]
-    fn eval<const THIRD: bool>(&self, j: usize) -> NewtonEval<F64x4> {
-        let from = &self.eval[j];
-        let get = |k: usize| F64x4::load(&from[k]);
-        let zero = F64x4::splat(0.0);
+    fn eval<W: Wide, const THIRD: bool>(&self, j: usize) -> NewtonEval<W> {
+        let get = |k: usize| W::at(&self.eval, 5 * j + k);
+        let zero = W::splat(0.0);
         let (gpp, q, m) = if THIRD { (get(3), zero, zero) } else { (zero, get(3), get(4)) };
         NewtonEval { g: get(0), gp: get(1), gpp, q, m, domain: get(2) }
     }
 }
 
-/// An asphere step over the first `n` vectors of a chunk: Newton's
-/// iteration in lock step, one step for every vector still iterating per
-/// pass over the chunk, so that the vectors' chains of dependent operations
-/// overlap (one vector at a time waits on each division in turn). Each lane
-/// takes the steps the one-ray path takes, so the bits agree. `THIRD` is
-/// the surface's [`AsphereLanes::third_order`], `TERMS` its
-/// [`AsphereLanes::chain_terms`].
+/// An asphere step over the first `n` vectors of a chunk (`W::N` rays a
+/// vector): Newton's iteration in lock step, one step for every vector
+/// still iterating per pass over the chunk, so that the vectors' chains of
+/// dependent operations overlap (one vector at a time waits on each
+/// division in turn). Each lane takes the steps the one-ray path takes, so
+/// the bits agree. `THIRD` is the surface's [`AsphereLanes::third_order`],
+/// `TERMS` its [`AsphereLanes::chain_terms`].
 ///
 /// Every stage is a loop over the vectors that stores what the next needs
 /// in `nw` (for a surface with rings, each ray's ring, then its conic;
@@ -902,10 +995,10 @@ impl NewtonScratch {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, const TERMS: usize>(
+fn asphere_chunk<W: Wide, const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, const TERMS: usize>(
     s: &Step,
-    sl: &StepLanes<F64x4>,
-    a: &AsphereLanes<F64x4>,
+    sl: &StepLanes<W>,
+    a: &AsphereLanes<W>,
     src: &Rays4,
     dst: &mut Rays4,
     n: usize,
@@ -915,7 +1008,7 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, co
 ) {
     // vector j's rays in the surface's frame
     let ray = |j: usize| {
-        let (p, d, _) = load_rays(src, j);
+        let (p, d, _) = load_rays::<W>(src, j);
         ([p[0], p[1], p[2] - sl.shift], d)
     };
     if let Some(z) = zones_of(a) {
@@ -923,17 +1016,19 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, co
         // then the roots: short chains a vector instead of one long one
         for j in 0..n {
             let (p, d) = ray(j);
-            z.ring(p, d).store(&mut nw.root[j][0]);
+            z.ring(p, d).put(&mut nw.root, 6 * j);
         }
         for j in 0..n {
             let (p, _) = ray(j);
-            let sc = ring_conic(z.of_ring(F64x4::load(&nw.root[j][0])), p[2]);
-            let to = &mut nw.root[j];
-            put_quads((&mut to[..4]).try_into().expect("four"), [sc.c, sc.kc, sc.k1c, sc.pz]);
+            let sc = ring_conic(z.of_ring(W::at(&nw.root, 6 * j)), p[2]);
+            // the first four of the vector's six root numbers
+            for (k, v) in [sc.c, sc.kc, sc.k1c, sc.pz].into_iter().enumerate() {
+                v.put(&mut nw.root, 6 * j + k);
+            }
         }
         for j in 0..n {
             let (p, d) = ray(j);
-            let [c, kc, k1c, pz] = get_quads((&nw.root[j][..4]).try_into().expect("four"));
+            let [c, kc, k1c, pz] = std::array::from_fn(|k| W::at(&nw.root, 6 * j + k));
             let ring = conic_root_of(&StartConic { c, kc, k1c, pz }, p, d, true);
             nw.put_root(j, &ring_or_start(a, ring, p, d));
         }
@@ -947,7 +1042,7 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, co
     for j in 0..n {
         let (p, d) = ray(j);
         let st = newton_start_from(a, p, d, &nw.root(j));
-        nw.put_state::<THIRD>(j, &st);
+        nw.put_state::<W, THIRD>(j, &st);
         live |= u64::from(newton_running(&st)) << j;
     }
     if !a.iterates() {
@@ -959,30 +1054,30 @@ fn asphere_chunk<const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, co
         }
         for j in ones(live) {
             let (p, d) = ray(j);
-            let ev = newton_eval::<F64x4, THIRD, TERMS>(a, d, &nw.state::<THIRD>(j, p));
-            nw.put_eval::<THIRD>(j, &ev);
+            let ev = newton_eval::<W, THIRD, TERMS>(a, d, &nw.state::<W, THIRD>(j, p));
+            nw.put_eval::<W, THIRD>(j, &ev);
         }
         let mut next = 0u64;
         for j in ones(live) {
             let (p, _) = ray(j);
-            let mut st = nw.state::<THIRD>(j, p);
-            newton_finish::<F64x4, THIRD>(&mut st, &nw.eval::<THIRD>(j));
-            nw.put_state::<THIRD>(j, &st);
+            let mut st = nw.state::<W, THIRD>(j, p);
+            newton_finish::<W, THIRD>(&mut st, &nw.eval::<W, THIRD>(j));
+            nw.put_state::<W, THIRD>(j, &st);
             next |= u64::from(newton_running(&st)) << j;
         }
         live = next;
     }
     for j in 0..n {
         let (p, d) = ray(j);
-        let h = newton_hit::<F64x4, THIRD, TERMS>(a, d, &nw.state::<THIRD>(j, p));
-        put_quads(&mut nw.normal[j], [h.n[0], h.n[1], h.n[2], h.r2]);
+        let h = newton_hit::<W, THIRD, TERMS>(a, d, &nw.state::<W, THIRD>(j, p));
+        put_vectors(&mut nw.normal, j, [h.n[0], h.n[1], h.n[2], h.r2]);
     }
     for j in 0..n {
         let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
         let (p, d) = ray(j);
-        let [nx, ny, nz, r2] = get_quads(&nw.normal[j]);
-        let h = hit_with_normal(d, &nw.state::<THIRD>(j, p), [nx, ny, nz], r2);
-        store_out(dst, j, &asphere_carry::<F64x4, REFRACT>(&sl, &h, d, load_rays(src, j).2), bits);
+        let [nx, ny, nz, r2] = get_vectors(&nw.normal, j);
+        let h = hit_with_normal(d, &nw.state::<W, THIRD>(j, p), [nx, ny, nz], r2);
+        store_out(dst, j, &asphere_carry::<W, REFRACT>(&sl, &h, d, load_rays::<W>(src, j).2), bits);
     }
 }
 
@@ -1020,7 +1115,55 @@ fn stop_rays(
 #[cfg(test)]
 mod tests {
     use crate::trace::bench::Workload;
+    use crate::trace::SpectralBatch;
     use crate::Prescription;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Set: this thread's batches take four rays a vector even where
+        /// the CPU has AVX-512 ([`super::wide_registers`]).
+        pub(super) static NARROW: Cell<bool> = const { Cell::new(false) };
+    }
+
+    /// The four-lane and eight-lane kernels give the same bits, sphere,
+    /// plane and asphere steps (rings, even, odd terms), one wavelength and
+    /// mixed, with chunks not a whole number of vectors and rays that
+    /// arrive stopped. Where the CPU has no AVX-512 both runs take four
+    /// lanes and the test compares that path with itself.
+    #[test]
+    fn four_and_eight_lanes_agree() {
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        for name in [
+            "double-gauss-50mm.json",
+            "library/canon-35mm-f2-is-aspheric-us20150205081.json",
+            "library/phone-5.6mm-f3.5-us7535658.json",
+            "library/kit-zoom-18.5mm-f3.5-wide-us7277232.json",
+            "library/sony-planar-50mm-f1.4-aspheric-us20140071331.json",
+        ] {
+            let path = format!("{}/../../lens-data/{name}", env!("CARGO_MANIFEST_DIR"));
+            let p = Prescription::load(&path).unwrap();
+            let w = Workload::new(&p, 1001).unwrap();
+            let mut wide = SpectralBatch { rays: w.rays.clone(), wavelength_nm: w.wavelength_nm.clone() };
+            wide.rays.status[7] = 9;
+            let mut narrow = wide.clone();
+            let (mut wide_one, mut narrow_one) = (wide.rays.clone(), wide.rays.clone());
+            w.tracer.trace_spectral(&mut wide).unwrap();
+            w.tracer.trace_soa(&mut wide_one);
+            NARROW.with(|n| n.set(true));
+            w.tracer.trace_spectral(&mut narrow).unwrap();
+            w.tracer.trace_soa(&mut narrow_one);
+            NARROW.with(|n| n.set(false));
+            for (a, b) in [(&wide.rays, &narrow.rays), (&wide_one, &narrow_one)] {
+                assert_eq!(a.status, b.status, "{name}");
+                assert!(a.status.iter().filter(|s| **s == 0).count() > 500, "{name}: most rays pass");
+                for (x, y) in [(&a.x, &b.x), (&a.y, &b.y), (&a.z, &b.z), (&a.dx, &b.dx), (&a.dy, &b.dy)] {
+                    assert_eq!(bits(x), bits(y), "{name}");
+                }
+                assert_eq!(bits(&a.dz), bits(&b.dz), "{name}");
+                assert_eq!(bits(&a.opl), bits(&b.opl), "{name}");
+            }
+        }
+    }
 
     /// The portable path (for CPUs without AVX2) gives the vector path's
     /// bits, also for rays already finished.

@@ -9,7 +9,7 @@
 
 use super::batch::RayBatch;
 #[cfg(target_arch = "x86_64")]
-use super::batch::VECTORS;
+use super::batch::{Wide, VECTORS};
 use super::ray::{Outcome, Ray};
 use super::step::{lanes_at, Indices, Lane, StepLanes, NO_GLASS};
 use super::tracer::Tracer;
@@ -60,7 +60,7 @@ impl SpectralBatch {
     }
 }
 
-/// Each glass's index for the rays of one chunk, four rays per vector, and
+/// Each glass's index for the rays of one chunk, and
 /// its inverse where a ray enters the glass from air.
 #[derive(Default)]
 pub(crate) struct ChunkIndices {
@@ -83,7 +83,7 @@ pub(super) struct Vector<'a> {
 
 #[cfg(target_arch = "x86_64")]
 impl ChunkIndices {
-    /// The indices of the four rays of vector `j`.
+    /// The indices of the rays of vector `j` (of [`Wide::N`] rays).
     #[inline(always)]
     pub(super) fn vector(&self, j: usize) -> Vector<'_> {
         Vector { ix: self, j }
@@ -91,14 +91,14 @@ impl ChunkIndices {
 }
 
 #[cfg(target_arch = "x86_64")]
-impl Indices<F64x4> for Vector<'_> {
+impl<W: Wide> Indices<W> for Vector<'_> {
     #[inline(always)]
-    fn n(&self, g: usize) -> F64x4 {
-        F64x4::load(&self.ix.n[g][self.j])
+    fn n(&self, g: usize) -> W {
+        W::at(self.ix.n[g].as_flattened(), self.j)
     }
     #[inline(always)]
-    fn inv(&self, g: usize) -> F64x4 {
-        F64x4::load(&self.ix.inv[g][self.j])
+    fn inv(&self, g: usize) -> W {
+        W::at(self.ix.inv[g].as_flattened(), self.j)
     }
 }
 

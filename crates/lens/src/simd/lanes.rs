@@ -52,6 +52,16 @@ pub(crate) trait Real:
     /// `0..=table.len() - 1` (NaN to 0) and truncated. `table` must not be
     /// empty.
     fn rows(table: &[[f64; 4]], at: Self) -> [Self; 4];
+    /// The first three numbers of row `i` of a table of 32 rows, as
+    /// [`Self::rows`] reads them from `rows`; `cols` is the same table by
+    /// columns (`cols[k][i] = rows[i][k]`), which the eight-lane type reads
+    /// with permutes instead of a load per lane.
+    #[inline(always)]
+    fn rows32(rows: &[[f64; 4]; 32], cols: &[[f64; 32]; 3], at: Self) -> [Self; 3] {
+        let _ = cols;
+        let [a, b, c, _] = Self::rows(rows, at);
+        [a, b, c]
+    }
 }
 
 /// Truth values, one per lane.

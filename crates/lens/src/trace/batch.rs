@@ -775,8 +775,20 @@ impl Wide for F64x8 {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn load_rays<W: Wide>(rays: &Rays4, j: usize) -> ([W; 3], [W; 3], W) {
-    let at = |a: &[[f64; 4]; VECTORS]| W::at(a.as_flattened(), j);
-    ([at(&rays.x), at(&rays.y), at(&rays.z)], [at(&rays.dx), at(&rays.dy), at(&rays.dz)], at(&rays.opl))
+    let at = vector_of::<W>;
+    (
+        [at(&rays.x, j), at(&rays.y, j), at(&rays.z, j)],
+        [at(&rays.dx, j), at(&rays.dy, j), at(&rays.dz, j)],
+        at(&rays.opl, j),
+    )
+}
+
+/// Vector `j` of one of a chunk's arrays. A function, not a closure: a
+/// closure that is not inlined runs outside the caller's target features.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn vector_of<W: Wide>(a: &[[f64; 4]; VECTORS], j: usize) -> W {
+    W::at(a.as_flattened(), j)
 }
 
 /// Stores a step's result for vector `j` into `dst` and its verdicts into
@@ -805,7 +817,14 @@ fn store_out<W: Wide>(dst: &mut Rays4, j: usize, out: &StepOut<W>, bits: &mut Bi
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn get_vectors<W: Wide, const K: usize>(from: &[f64], j: usize) -> [W; K] {
-    std::array::from_fn(|k| W::at(from, j * K + k))
+    // a loop, not `array::from_fn`: its closure may stay a call, outside
+    // the caller's target features (and then every vector goes through
+    // memory)
+    let mut v = [W::splat(0.0); K];
+    for (k, v) in v.iter_mut().enumerate() {
+        *v = W::at(from, j * K + k);
+    }
+    v
 }
 
 /// Stores `v` as [`get_vectors`] reads it.
@@ -1028,7 +1047,8 @@ fn asphere_chunk<W: Wide, const REFRACT: bool, const PER_RAY: bool, const THIRD:
         }
         for j in 0..n {
             let (p, d) = ray(j);
-            let [c, kc, k1c, pz] = std::array::from_fn(|k| W::at(&nw.root, 6 * j + k));
+            let r = &nw.root;
+            let [c, kc, k1c, pz] = [W::at(r, 6 * j), W::at(r, 6 * j + 1), W::at(r, 6 * j + 2), W::at(r, 6 * j + 3)];
             let ring = conic_root_of(&StartConic { c, kc, k1c, pz }, p, d, true);
             nw.put_root(j, &ring_or_start(a, ring, p, d));
         }

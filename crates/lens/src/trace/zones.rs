@@ -44,6 +44,8 @@ pub(crate) struct Zones {
     /// `ZONES / sd^2`, 1/mm^2: s times this is a ray's ring (truncated).
     per_s: f64,
     rows: [[f64; 4]; ZONES],
+    /// The same numbers by columns: `cols[k][i] = rows[i][k]` (k < 3).
+    cols: [[f64; ZONES]; 3],
 }
 
 /// An even asphere's sag and its first two derivatives in s = r^2.
@@ -135,7 +137,7 @@ impl Zones {
             return None;
         }
         let width = sd2 / ZONES as f64;
-        let mut zones = Zones { per_s: 1.0 / width, rows: [start; ZONES] };
+        let mut zones = Zones { per_s: 1.0 / width, rows: [start; ZONES], cols: [[0.0; ZONES]; 3] };
         let mut any = false;
         for (i, row) in zones.rows.iter_mut().enumerate() {
             let s = (i as f64 + 0.5) * width;
@@ -153,6 +155,11 @@ impl Zones {
             if fits {
                 *row = [ci, kci, z0, 0.0];
                 any = true;
+            }
+        }
+        for (i, row) in zones.rows.iter().enumerate() {
+            for (col, v) in zones.cols.iter_mut().zip(row) {
+                col[i] = *v;
             }
         }
         any.then_some(zones)
@@ -187,7 +194,7 @@ impl Zones {
     /// The conic `(c, k c, z0)` of the ring [`Self::ring`] gave.
     #[inline(always)]
     pub(crate) fn of_ring<L: Real>(&self, ring: L) -> (L, L, L) {
-        let [c, kc, z0, _] = L::rows(&self.rows, ring);
+        let [c, kc, z0] = L::rows32(&self.rows, &self.cols, ring);
         (c, kc, z0)
     }
 }

@@ -673,7 +673,7 @@ fn sphere_chunk<W: Wide, const REFRACT: bool, const SHAPE: u8, const PER_RAY: bo
                 Lane { px: p[0], py: p[1], pz: p[2], dx: d[0], dy: d[1], dz: d[2], opl },
             )
         } else {
-            let [t0, f, g, disc] = get_vectors(approach, j);
+            let [t0, f, g, disc] = get4(approach, j);
             let p = [p[0], p[1], p[2] - sl.shift];
             sphere_from_approach::<W, REFRACT, SHAPE>(&sl, &Approach { t0, f, g, disc }, p, d, opl)
         };
@@ -812,22 +812,27 @@ fn store_out<W: Wide>(dst: &mut Rays4, j: usize, out: &StepOut<W>, bits: &mut Bi
     bits.inside |= W::mask_bits(v.inside) << at;
 }
 
-/// `K` vectors stored one after another for each vector `j`: vector `j`'s
-/// `k`-th is vector `j K + k` of `from`.
+/// Four vectors stored one after another for each vector `j`: vector
+/// `j`'s `k`-th is vector `4 j + k` of `from`. Written out (no loop, no
+/// closure): `array::from_fn`'s closure stayed a call outside the AVX2
+/// function, and a loop into an array was slower at eight lanes.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn get_vectors<W: Wide, const K: usize>(from: &[f64], j: usize) -> [W; K] {
-    // a loop, not `array::from_fn`: its closure may stay a call, outside
-    // the caller's target features (and then every vector goes through
-    // memory)
-    let mut v = [W::splat(0.0); K];
-    for (k, v) in v.iter_mut().enumerate() {
-        *v = W::at(from, j * K + k);
-    }
-    v
+fn get4<W: Wide>(from: &[f64], j: usize) -> [W; 4] {
+    let j = 4 * j;
+    [W::at(from, j), W::at(from, j + 1), W::at(from, j + 2), W::at(from, j + 3)]
 }
 
-/// Stores `v` as [`get_vectors`] reads it.
+/// Six vectors for each vector `j`, as [`get4`] reads four.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn get6<W: Wide>(from: &[f64], j: usize) -> [W; 6] {
+    let j = 6 * j;
+    let at = W::at;
+    [at(from, j), at(from, j + 1), at(from, j + 2), at(from, j + 3), at(from, j + 4), at(from, j + 5)]
+}
+
+/// Stores `K` vectors for vector `j` as [`get4`] and [`get6`] read them.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn put_vectors<W: Wide, const K: usize>(to: &mut [f64], j: usize, v: [W; K]) {
@@ -923,7 +928,7 @@ fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
 /// stored: a third-order step's hit evaluates its own normal, so neither
 /// its state nor its evaluation keeps `Q` and `m`. Each array holds, for
 /// each vector in turn, its numbers one vector after another
-/// ([`get_vectors`]), whatever the vector's width.
+/// ([`get4`]), whatever the vector's width.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 struct NewtonScratch {
@@ -949,7 +954,7 @@ impl NewtonScratch {
 
     #[inline(always)]
     fn root<W: Wide>(&self, j: usize) -> ConicRoot<W> {
-        let [k1c, pz, qa, qc, far, disc] = get_vectors(&self.root, j);
+        let [k1c, pz, qa, qc, far, disc] = get6(&self.root, j);
         ConicRoot { k1c, pz, qa, qc, far, disc }
     }
 
@@ -1095,7 +1100,7 @@ fn asphere_chunk<W: Wide, const REFRACT: bool, const PER_RAY: bool, const THIRD:
     for j in 0..n {
         let sl = if PER_RAY { lanes_at(*sl, s, &ix.vector(j)) } else { *sl };
         let (p, d) = ray(j);
-        let [nx, ny, nz, r2] = get_vectors(&nw.normal, j);
+        let [nx, ny, nz, r2] = get4(&nw.normal, j);
         let h = hit_with_normal(d, &nw.state::<W, THIRD>(j, p), [nx, ny, nz], r2);
         store_out(dst, j, &asphere_carry::<W, REFRACT>(&sl, &h, d, load_rays::<W>(src, j).2), bits);
     }

@@ -378,10 +378,11 @@ impl Chunk {
         !self.alive & (u64::MAX >> (64 - m))
     }
 
-    /// Pads rays `m..` up to a whole pair of vectors with idle lanes and marks the
-    /// travelling rays alive; returns the number of vectors.
+    /// Pads rays `m..` up to a whole pair of four-ray vectors with idle
+    /// lanes and marks the travelling rays alive; returns the number of
+    /// four-ray vectors.
     fn pad(&mut self, m: usize) -> usize {
-        // whole pairs of vectors: the eight-lane asphere step reads two
+        // whole pairs: an eight-lane step reads two
         let n = m.div_ceil(8) * 2;
         for i in m..n * 4 {
             self.put(i, IDLE, u64::MAX);

@@ -255,13 +255,16 @@ impl Tracer {
 
     /// Every glass's index (and inverse, where used) for the rays of one
     /// chunk of wavelengths `nm` (at most a chunk), four at a time; idle
-    /// lanes past the end take the first ray's wavelength.
+    /// lanes past the end, up to the chunk's padding (a whole number of
+    /// eight rays), take the first ray's wavelength.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     pub(super) fn chunk_indices(&self, nm: &[f64], ix: &mut ChunkIndices) {
         let mut w = [[nm[0]; 4]; VECTORS];
         w.as_flattened_mut()[..nm.len()].copy_from_slice(nm);
-        let vectors = nm.len().div_ceil(4);
+        // as the chunk is padded (`Chunk::pad`): an eight-lane step reads
+        // its idle lanes' indices too, which must be a glass's
+        let vectors = nm.len().div_ceil(8) * 2;
         let mut lambda = [Lambda { l2: F64x4::splat(0.0), inv_l2: F64x4::splat(0.0) }; VECTORS];
         for (l, wj) in lambda[..vectors].iter_mut().zip(&w) {
             *l = if ix.inv_l2 { Lambda::of_nm(F64x4::load(wj)) } else { Lambda::squared_only(F64x4::load(wj)) };

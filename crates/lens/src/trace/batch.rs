@@ -517,7 +517,13 @@ impl Tracer {
             }
             prefetch_rays(batch, start + m..(start + 2 * m).min(n));
             if PER_RAY {
-                self.chunk_indices(&wavelength_nm[r.clone()], ix);
+                if c.wide {
+                    // SAFETY: `wide` is set only where the CPU has AVX-512F
+                    // and VL (Chunk::for_tracer).
+                    unsafe { self.chunk_indices_wide(&wavelength_nm[r.clone()], ix) };
+                } else {
+                    self.chunk_indices::<F64x4>(&wavelength_nm[r.clone()], ix);
+                }
             }
             self.trace_chunk::<PER_RAY>(&mut c, m, ix);
             let fin = &c.live[self.steps.len() % 2];

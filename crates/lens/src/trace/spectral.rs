@@ -16,9 +16,7 @@ use super::tracer::Tracer;
 use crate::error::OpticsError;
 use crate::glass::kernel::{Kernel, Lambda};
 #[cfg(target_arch = "x86_64")]
-use crate::simd::avx2::F64x4;
-#[cfg(target_arch = "x86_64")]
-use crate::simd::lanes::Real;
+use crate::simd::avx512::F64x8;
 
 /// Rays and the wavelength of each: a [`RayBatch`] with one more array.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -254,37 +252,50 @@ impl Tracer {
     }
 
     /// Every glass's index (and inverse, where used) for the rays of one
-    /// chunk of wavelengths `nm` (at most a chunk), four at a time; idle
+    /// chunk of wavelengths `nm` (at most a chunk), `W::N` at a time; idle
     /// lanes past the end, up to the chunk's padding (a whole number of
     /// eight rays), take the first ray's wavelength.
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    pub(super) fn chunk_indices(&self, nm: &[f64], ix: &mut ChunkIndices) {
+    pub(super) fn chunk_indices<W: Wide>(&self, nm: &[f64], ix: &mut ChunkIndices) {
         let mut w = [[nm[0]; 4]; VECTORS];
         w.as_flattened_mut()[..nm.len()].copy_from_slice(nm);
+        let w = w.as_flattened();
         // as the chunk is padded (`Chunk::pad`): an eight-lane step reads
         // its idle lanes' indices too, which must be a glass's
-        let vectors = nm.len().div_ceil(8) * 2;
-        let mut lambda = [Lambda { l2: F64x4::splat(0.0), inv_l2: F64x4::splat(0.0) }; VECTORS];
-        for (l, wj) in lambda[..vectors].iter_mut().zip(&w) {
-            *l = if ix.inv_l2 { Lambda::of_nm(F64x4::load(wj)) } else { Lambda::squared_only(F64x4::load(wj)) };
+        let vectors = nm.len().div_ceil(8) * 8 / W::N;
+        let mut lambda = [Lambda { l2: W::splat(0.0), inv_l2: W::splat(0.0) }; VECTORS];
+        for (j, l) in lambda[..vectors].iter_mut().enumerate() {
+            *l = if ix.inv_l2 { Lambda::of_nm(W::at(w, j)) } else { Lambda::squared_only(W::at(w, j)) };
         }
         for (g, (k, glass)) in self.kernels.iter().zip(self.glasses.iter()).enumerate() {
-            let out = &mut ix.n[g];
+            let out = ix.n[g].as_flattened_mut();
             if *k == Kernel::General {
-                for (o, wj) in out[..vectors].iter_mut().zip(&w) {
-                    *o = wj.map(|nm| glass.dispersion.index_general(nm));
+                for (o, nm) in out[..vectors * W::N].iter_mut().zip(w) {
+                    *o = glass.dispersion.index_general(*nm);
                 }
             } else {
-                for (o, lj) in out[..vectors].iter_mut().zip(&lambda) {
-                    k.eval(lj).store(o);
+                for (j, lj) in lambda[..vectors].iter().enumerate() {
+                    k.eval(lj).put(out, j);
                 }
             }
             if ix.from_air[g] {
-                for (o, n) in ix.inv[g][..vectors].iter_mut().zip(&ix.n[g]) {
-                    (F64x4::splat(1.0) / F64x4::load(n)).store(o);
+                let (n, inv) = (ix.n[g].as_flattened(), ix.inv[g].as_flattened_mut());
+                for j in 0..vectors {
+                    (W::splat(1.0) / W::at(n, j)).put(inv, j);
                 }
             }
         }
+    }
+
+    /// [`Self::chunk_indices`] eight rays at a time.
+    ///
+    /// # Safety
+    ///
+    /// The CPU must have AVX2, FMA, AVX-512F and AVX-512VL.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+    pub(super) unsafe fn chunk_indices_wide(&self, nm: &[f64], ix: &mut ChunkIndices) {
+        self.chunk_indices::<F64x8>(nm, ix)
     }
 }

@@ -744,39 +744,31 @@ pub(super) trait Wide: Real {
     fn mask_bits(m: Self::Mask) -> u64;
 }
 
-#[cfg(target_arch = "x86_64")]
-impl Wide for F64x4 {
-    const N: usize = 4;
-    #[inline(always)]
-    fn at(s: &[f64], j: usize) -> Self {
-        F64x4::load(s[4 * j..].first_chunk().expect("a whole vector"))
-    }
-    #[inline(always)]
-    fn put(self, s: &mut [f64], j: usize) {
-        self.store(s[4 * j..].first_chunk_mut().expect("a whole vector"));
-    }
-    #[inline(always)]
-    fn mask_bits(m: M64x4) -> u64 {
-        u64::from(m.bits())
-    }
+/// [`Wide`] for a lane type of `$n` lanes with `load`, `store` and a mask
+/// type with `bits`.
+macro_rules! wide {
+    ($t:ident, $mask:ident, $n:literal) => {
+        #[cfg(target_arch = "x86_64")]
+        impl Wide for $t {
+            const N: usize = $n;
+            #[inline(always)]
+            fn at(s: &[f64], j: usize) -> Self {
+                $t::load(s[$n * j..].first_chunk().expect("a whole vector"))
+            }
+            #[inline(always)]
+            fn put(self, s: &mut [f64], j: usize) {
+                self.store(s[$n * j..].first_chunk_mut().expect("a whole vector"));
+            }
+            #[inline(always)]
+            fn mask_bits(m: $mask) -> u64 {
+                u64::from(m.bits())
+            }
+        }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-impl Wide for F64x8 {
-    const N: usize = 8;
-    #[inline(always)]
-    fn at(s: &[f64], j: usize) -> Self {
-        F64x8::load(s[8 * j..].first_chunk().expect("a whole vector"))
-    }
-    #[inline(always)]
-    fn put(self, s: &mut [f64], j: usize) {
-        self.store(s[8 * j..].first_chunk_mut().expect("a whole vector"));
-    }
-    #[inline(always)]
-    fn mask_bits(m: M64x8) -> u64 {
-        u64::from(m.bits())
-    }
-}
+wide!(F64x4, M64x4, 4);
+wide!(F64x8, M64x8, 8);
 
 /// Vector `j` of `rays`: points, directions, path lengths.
 #[cfg(target_arch = "x86_64")]

@@ -919,6 +919,16 @@ fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
     }
 }
 
+/// The start conic of vector `j` into the first four of its six root
+/// numbers in `nw` (its conic root's loop reads them).
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, j: usize, sc: StartConic<W>) {
+    for (k, v) in [sc.c, sc.kc, sc.k1c, sc.pz].into_iter().enumerate() {
+        v.put(&mut nw.root, 6 * j + k);
+    }
+}
+
 /// What [`asphere_chunk`] keeps for each vector between its loops, the
 /// kernel's structs as plain numbers: the ray's ring and its conic, then the
 /// conic's root (until the start), Newton's iteration (what changes between
@@ -1035,18 +1045,23 @@ fn asphere_chunk<W: Wide, const REFRACT: bool, const PER_RAY: bool, const THIRD:
         ([p[0], p[1], p[2] - sl.shift], d)
     };
     if let Some(z) = zones_of(a) {
-        // each ray's ring first, then its conic (a table row per lane),
-        // then the roots: short chains a vector instead of one long one
+        // each ray's ring and its conic (a table row per lane), then the
+        // roots: short chains a vector instead of one long one. Eight lanes
+        // read the rows with permutes and take ring and row in one loop;
+        // four read a row per lane, after a loop of rings (measured both
+        // ways, docs/performance.md)
         for j in 0..n {
             let (p, d) = ray(j);
-            z.ring(p, d).put(&mut nw.root, 6 * j);
+            if W::N == 8 {
+                put_start_conic(nw, j, ring_conic(z.of_ray(p, d), p[2]));
+            } else {
+                z.ring(p, d).put(&mut nw.root, 6 * j);
+            }
         }
-        for j in 0..n {
-            let (p, _) = ray(j);
-            let sc = ring_conic(z.of_ring(W::at(&nw.root, 6 * j)), p[2]);
-            // the first four of the vector's six root numbers
-            for (k, v) in [sc.c, sc.kc, sc.k1c, sc.pz].into_iter().enumerate() {
-                v.put(&mut nw.root, 6 * j + k);
+        if W::N != 8 {
+            for j in 0..n {
+                let (p, _) = ray(j);
+                put_start_conic(nw, j, ring_conic(z.of_ring(W::at(&nw.root, 6 * j)), p[2]));
             }
         }
         for j in 0..n {

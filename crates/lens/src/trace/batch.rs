@@ -293,8 +293,9 @@ struct Chunk {
     /// The CPU has AVX-512F and VL: every step takes eight rays a vector
     /// ([`wide_registers`]).
     wide: bool,
-    /// Each step's asphere in the kernel's number type, made once per trace
-    /// ([`Chunk::for_tracer`]), `None` for the other steps.
+    /// Each step's asphere in four lanes, made once per trace
+    /// ([`Chunk::for_tracer`]), `None` for the other steps; empty where the
+    /// chunk takes eight lanes.
     aspheres: Vec<Option<AsphereLanes<F64x4>>>,
     /// The same in eight lanes, where the CPU has AVX-512F and VL (empty
     /// elsewhere): an asphere step then takes eight rays a vector.
@@ -339,12 +340,15 @@ impl Chunk {
     #[inline(always)]
     fn for_tracer(t: &Tracer) -> Box<Self> {
         let mut c = Chunk::new();
-        c.aspheres =
-            t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect();
+        // each asphere in the lanes the steps will take, only those (a
+        // ring table each, made per trace)
         c.wide = wide_registers();
         if c.wide {
             // SAFETY: the CPU has AVX-512F and VL (checked by wide_registers).
             c.aspheres8 = unsafe { wide_aspheres(t) };
+        } else {
+            c.aspheres =
+                t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect();
         }
         c
     }
@@ -707,14 +711,13 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
     let Chunk { live: [a, b], done, status, approach, alive, wide, aspheres, aspheres8, newton } = c;
     let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
     let mut bits = Bits::default();
-    if let (ASPHERE, Some(asph)) = (SHAPE, &aspheres[k]) {
-        if let Some(Some(a8)) = aspheres8.get(k) {
-            // SAFETY: `aspheres8` is filled only where the CPU has AVX-512F
-            // and VL (Chunk::for_tracer); AVX2 and FMA are this function's.
-            unsafe { asphere_chunk_wide::<REFRACT, PER_RAY>(s, a8, src, dst, n.div_ceil(2), ix, &mut bits, newton) }
-        } else {
-            asphere_chunk_of::<F64x4, REFRACT, PER_RAY>(s, &sl, asph, src, dst, n, ix, &mut bits, newton)
-        }
+    // the step's asphere in the chunk's lanes (only those are made)
+    if let Some(a8) = step_asphere::<_, SHAPE>(aspheres8, k) {
+        // SAFETY: `aspheres8` is filled only where the CPU has AVX-512F and
+        // VL (Chunk::for_tracer); AVX2 and FMA are this function's.
+        unsafe { asphere_chunk_wide::<REFRACT, PER_RAY>(s, a8, src, dst, n.div_ceil(2), ix, &mut bits, newton) }
+    } else if let Some(a4) = step_asphere::<_, SHAPE>(aspheres, k) {
+        asphere_chunk_of::<F64x4, REFRACT, PER_RAY>(s, &sl, a4, src, dst, n, ix, &mut bits, newton)
     } else if *wide {
         // SAFETY: `wide` is set only where the CPU has AVX-512F and VL
         // (Chunk::for_tracer); AVX2 and FMA are this function's.
@@ -726,6 +729,19 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
     if dying != 0 {
         *alive &= !dying;
         stop_rays(s, k, src, dst, done, status, bits, dying);
+    }
+}
+
+/// Step `k`'s asphere from a chunk's list of them (`aspheres` or
+/// `aspheres8`, whichever [`Chunk::for_tracer`] made), `None` for a step of
+/// another `SHAPE` or a list not made.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn step_asphere<T, const SHAPE: u8>(list: &[Option<T>], k: usize) -> Option<&T> {
+    if SHAPE == ASPHERE {
+        list.get(k).and_then(Option::as_ref)
+    } else {
+        None
     }
 }
 

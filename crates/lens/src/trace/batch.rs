@@ -928,6 +928,7 @@ fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
 ) {
     match (a.third_order(), a.chain_terms()) {
         (false, _) => asphere_chunk::<W, REFRACT, PER_RAY, false, 0>(s, sl, a, src, dst, n, ix, b, nw),
+        (true, 0) => asphere_chunk::<W, REFRACT, PER_RAY, true, 0>(s, sl, a, src, dst, n, ix, b, nw),
         (true, 4) => asphere_chunk::<W, REFRACT, PER_RAY, true, 4>(s, sl, a, src, dst, n, ix, b, nw),
         (true, 5) => asphere_chunk::<W, REFRACT, PER_RAY, true, 5>(s, sl, a, src, dst, n, ix, b, nw),
         (true, 6) => asphere_chunk::<W, REFRACT, PER_RAY, true, 6>(s, sl, a, src, dst, n, ix, b, nw),

@@ -1,13 +1,16 @@
 //! Where Newton's iteration on an asphere starts: the root of a conic near
 //! the surface where the ray meets it.
 //!
-//! A strong even asphere (a camera lens's: an r^4 term that moves the
-//! surface tenths of a millimetre from its base conic at the rim) is too far
+//! A strong asphere (a camera lens's: an r^4 term that moves the surface
+//! tenths of a millimetre from its base conic at the rim; a phone lens's
+//! odd and even terms to r^10) is too far
 //! from that conic for one Newton step from its root to end within the
 //! tolerance, and every ray takes two. Instead the clear aperture is cut into
 //! [`ZONES`] rings of equal steps in s = r^2, and each ring gets the conic
 //! (with its vertex moved along the axis) that osculates the surface, as a
-//! function of s, at the ring's middle: same sag, dz/ds and d2z/ds2. A ray
+//! function of s, at the ring's middle: same sag, dz/ds and d2z/ds2 (or,
+//! where that conic does not exist or fits worse, the paraboloid tangent
+//! to the surface there: a sag linear in s). A ray
 //! starts from the root of the conic of the ring where it crosses the vertex
 //! plane; over the ring, its neighbours and the ray's drift from the plane to
 //! the surface that conic is within about 1e-5 mm of the surface (its error
@@ -16,8 +19,8 @@
 //!
 //! A ring's conic is a row of a small table (`[c, k c, z0, 0]`), read per
 //! lane. A ring whose conic is not defined over the ring and its neighbours,
-//! or not within [`FIT_MM`] of the surface there, keeps the surface's own
-//! start conic, as does every ring of a surface that its start conic already
+//! or neither within [`FIT_MM`] of the surface there nor ten times nearer
+//! it than the surface's own start conic, keeps that start conic, as does every ring of a surface that its start conic already
 //! fits within [`ZONES_FROM_MM`]. The start only decides how many steps a ray
 //! takes, never where it ends.
 
@@ -33,8 +36,8 @@ pub(crate) const ZONES: usize = 32;
 pub const ZONES_FROM_MM: f64 = 1e-4;
 
 /// A ring's conic must be within this of the surface (mm) over the ring and
-/// its two neighbours, or the ring's rays start from the surface's start
-/// conic.
+/// its two neighbours, or ten times nearer it than the surface's start
+/// conic, or the ring's rays start from that start conic.
 pub const FIT_MM: f64 = 1e-4;
 
 /// The rings' conics: row `i` is `[c, k c, z0, 0]` of ring `i`'s conic
@@ -48,7 +51,7 @@ pub(crate) struct Zones {
     cols: [[f64; ZONES]; 3],
 }
 
-/// An even asphere's sag and its first two derivatives in s = r^2.
+/// An asphere's sag and its first two derivatives in s = r^2.
 struct Sag<'a> {
     c: f64,
     k1: f64,
@@ -117,14 +120,20 @@ fn osculating([z, z1, z2]: [f64; 3], s: f64) -> Option<[f64; 3]> {
 }
 
 impl Zones {
-    /// The rings of the even asphere `asphere` on a base of curvature `c`
-    /// with clear radius squared `sd2` (mm^2), whose rays would otherwise
-    /// start from the conic of conic constant `start_k` (no vertex shift);
-    /// `None` where that conic fits within [`ZONES_FROM_MM`], where no ring
-    /// has a conic that holds (module docs), the aperture is unbounded, or
-    /// the surface has odd terms.
+    /// The rings whose rays start from a conic of their own (the others
+    /// from the surface's start conic, whose vertex is not shifted).
+    #[cfg(test)]
+    pub(crate) fn own_conics(&self) -> usize {
+        self.rows.iter().filter(|r| r[2] != 0.0).count()
+    }
+
+    /// The rings of the asphere `asphere` on a base of curvature `c` with
+    /// clear radius squared `sd2` (mm^2), whose rays would otherwise start
+    /// from the conic of conic constant `start_k` (no vertex shift); `None`
+    /// where that conic fits within [`ZONES_FROM_MM`], where no ring has a
+    /// conic that holds (module docs) or the aperture is unbounded.
     pub(crate) fn of(c: f64, asphere: &Asphere, sd2: f64, start_k: f64) -> Option<Zones> {
-        if !asphere.is_even() || asphere.degree() == 0 || !(sd2 > 0.0 && sd2.is_finite()) {
+        if asphere.degree() == 0 || !(sd2 > 0.0 && sd2.is_finite()) {
             return None;
         }
         let sag = Sag { c, k1: 1.0 + asphere.conic, asphere };
@@ -141,20 +150,32 @@ impl Zones {
         let mut any = false;
         for (i, row) in zones.rows.iter_mut().enumerate() {
             let s = (i as f64 + 0.5) * width;
-            let Some([ci, kci, z0]) = sag.at(s).and_then(|d| osculating(d, s)) else {
-                continue;
-            };
             // the ring and its neighbours
             let (lo, hi) = ((i as f64 - 1.0).max(0.0) * width, ((i + 2) as f64 * width).min(sd2));
-            let fits = (0..=8).map(|j| lo + (hi - lo) * j as f64 / 8.0).all(|s| {
-                match (sag.at(s), conic_sag(ci, kci, z0, s)) {
-                    (Some([z, ..]), Some(zc)) => (z - zc).abs() <= FIT_MM,
-                    _ => false,
-                }
+            let worst = |[c, kc, z0]: [f64; 3]| {
+                (0..=8).map(|j| lo + (hi - lo) * j as f64 / 8.0).try_fold(0.0f64, |w, s| {
+                    match (sag.at(s), conic_sag(c, kc, z0, s)) {
+                        (Some([z, ..]), Some(zc)) => Some(w.max((z - zc).abs())),
+                        _ => None,
+                    }
+                })
+            };
+            let own = worst([start[0], start[1], 0.0]).unwrap_or(f64::INFINITY);
+            // the osculating conic, or the tangent paraboloid (a sag linear
+            // in s, defined everywhere), whichever fits better
+            let best = sag.at(s).and_then(|at| {
+                let tangent = [2.0 * at[1], -2.0 * at[1], at[0] - at[1] * s];
+                [osculating(at, s), Some(tangent)]
+                    .into_iter()
+                    .flatten()
+                    .filter_map(|k| worst(k).map(|w| (k, w)))
+                    .min_by(|a, b| a.1.total_cmp(&b.1))
             });
-            if fits {
-                *row = [ci, kci, z0, 0.0];
-                any = true;
+            if let Some(([ci, kci, z0], w)) = best {
+                if w <= FIT_MM || w < 0.1 * own {
+                    *row = [ci, kci, z0, 0.0];
+                    any = true;
+                }
             }
         }
         for (i, row) in zones.rows.iter().enumerate() {

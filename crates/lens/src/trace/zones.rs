@@ -3,26 +3,27 @@
 //!
 //! A strong asphere (a camera lens's: an r^4 term that moves the surface
 //! tenths of a millimetre from its base conic at the rim; a phone lens's
-//! odd and even terms to r^10) is too far
-//! from that conic for one Newton step from its root to end within the
-//! tolerance, and every ray takes two. Instead the clear aperture is cut into
-//! [`ZONES`] rings of equal steps in s = r^2, and each ring gets the conic
-//! (with its vertex moved along the axis) that osculates the surface, as a
-//! function of s, at the ring's middle: same sag, dz/ds and d2z/ds2 (or,
-//! where that conic does not exist or fits worse, the paraboloid tangent
-//! to the surface there: a sag linear in s). A ray
-//! starts from the root of the conic of the ring where it crosses the vertex
-//! plane; over the ring, its neighbours and the ray's drift from the plane to
-//! the surface that conic is within about 1e-5 mm of the surface (its error
-//! is the third derivative's), and one third-order step ends the iteration
+//! odd and even terms to r^10) is too far from that conic for one Newton
+//! step from its root to end within the tolerance, and every ray takes two
+//! or more. Instead the clear aperture is cut into [`ZONES`] rings of equal
+//! steps in s = r^2, and each ring gets the conic (with its vertex moved
+//! along the axis) that osculates the surface, as a function of s, at the
+//! ring's middle: same sag, dz/ds and d2z/ds2 (or, where that conic does
+//! not exist or fits worse, the paraboloid tangent to the surface there: a
+//! sag linear in s). A ray starts from the root of the conic of the ring
+//! where it crosses the vertex plane; over the ring, its neighbours and the
+//! ray's drift from the plane to the surface a camera asphere's conic is
+//! within about 1e-5 mm of the surface (its error is the third
+//! derivative's), and one third-order step ends the iteration
 //! (docs/architecture.md, Aspheres).
 //!
 //! A ring's conic is a row of a small table (`[c, k c, z0, 0]`), read per
 //! lane. A ring whose conic is not defined over the ring and its neighbours,
 //! or neither within [`FIT_MM`] of the surface there nor ten times nearer
-//! it than the surface's own start conic, keeps that start conic, as does every ring of a surface that its start conic already
-//! fits within [`ZONES_FROM_MM`]. The start only decides how many steps a ray
-//! takes, never where it ends.
+//! it than the surface's own start conic, keeps that start conic, as does
+//! every ring of a surface that its start conic already fits within
+//! [`ZONES_FROM_MM`]. The start only decides how many steps a ray takes,
+//! never where it ends.
 
 use crate::model::surface::Asphere;
 use crate::simd::lanes::Real;

@@ -912,36 +912,11 @@ mod tests {
         let ringed = AsphereLanes::<f64>::of(c, &canon, 11.9 * 11.9);
         let plain = AsphereLanes::<f64>::of(c, &canon, f64::INFINITY);
         assert!(ringed.zones.is_some() && plain.zones.is_none());
-        let steps = |a: &AsphereLanes<f64>, p: [f64; 3], d: [f64; 3]| {
-            let mut st = newton_start(a, p, d);
-            let mut n = 0;
-            while newton_running(&st) && n < MAX_NEWTON_STEPS {
-                newton_step::<f64, true, 4>(a, d, &mut st);
-                n += 1;
-            }
-            (n, newton_hit::<f64, true, 4>(a, d, &st))
-        };
-        let mut next = crate::trace::uniform(0x5eed);
-        let (mut rays, mut one_ringed, mut one_plain) = (0, 0, 0);
-        while rays < 2000 {
-            let (r, phi) = (11.5 * next().sqrt(), std::f64::consts::TAU * next());
-            let (th, psi) = (25f64.to_radians() * next(), std::f64::consts::TAU * next());
-            let d = [th.sin() * psi.cos(), th.sin() * psi.sin(), th.cos()];
-            // from 0.5 mm before the vertex plane, through (r, phi) on it
-            let p = [r * phi.cos() - 0.5 * d[0] / d[2], r * phi.sin() - 0.5 * d[1] / d[2], -0.5];
-            let (n, h) = steps(&ringed, p, d);
-            let (m, g) = steps(&plain, p, d);
-            if !(h.ok && h.converged) || h.x.hypot(h.y) > 11.9 {
-                continue;
-            }
-            rays += 1;
-            let on = (h.z - canon.sag(c, h.x.hypot(h.y)).unwrap()).abs();
-            assert!(on < 1e-12 && (h.t - g.t).abs() < 1e-11, "off by {on:e}, {:e} from the plain start", h.t - g.t);
-            one_ringed += usize::from(n == 1);
-            one_plain += usize::from(m == 1);
-        }
-        assert_eq!(one_ringed, rays, "rays taking one step from the rings");
-        assert!(one_plain < rays / 10, "{one_plain} of {rays} took one step from the sphere");
+        let (one_ringed, one_plain) =
+            one_step_rays::<4>(&canon, c, 11.9, [&ringed, &plain], (11.5, 25f64.to_radians(), 0.5), 0x5eed);
+        assert_eq!(one_ringed, 2000, "rays taking one step from the rings");
+        assert!(one_plain < 200, "{one_plain} of 2000 took one step from the sphere");
+        let steps = steps_to_hit::<4>;
         // a ray far outside the aperture misses the outermost ring's conic
         // (an ellipsoid 17 mm across): it starts from the sphere's root, as
         // without rings
@@ -984,37 +959,61 @@ mod tests {
         assert!(ringed.third_order() && ringed.chain_terms() == 0);
         let zones = ringed.zones.as_ref().expect("rings");
         assert!(zones.own_conics() > 20, "{} rings with their own conic", zones.own_conics());
-        let steps = |a: &AsphereLanes<f64>, p: [f64; 3], d: [f64; 3]| {
-            let mut st = newton_start(a, p, d);
-            let mut n = 0;
-            while newton_running(&st) && n < MAX_NEWTON_STEPS {
-                newton_step::<f64, true, 0>(a, d, &mut st);
-                n += 1;
-            }
-            (n, newton_hit::<f64, true, 0>(a, d, &st))
-        };
-        let mut next = crate::trace::uniform(0xfee1);
+        let (one_ringed, one_plain) =
+            one_step_rays::<0>(&phone, c, sd, [&ringed, &plain], (0.98 * sd, 0.3, 0.2), 0xfee1);
+        // 983 and 5 of 2000 when written (28 of the 32 rings with a conic
+        // of their own)
+        assert!(one_ringed > 800, "{one_ringed} of 2000 took one step from the rings");
+        assert!(one_plain < 40, "{one_plain} of 2000 took one step from the base conic");
+    }
+
+    /// The third-order steps a ray `p + t d` takes to its hit on `a`
+    /// (`TERMS` its [`AsphereLanes::chain_terms`]), and the hit.
+    fn steps_to_hit<const TERMS: usize>(a: &AsphereLanes<f64>, p: [f64; 3], d: [f64; 3]) -> (usize, AsphereHit<f64>) {
+        let mut st = newton_start(a, p, d);
+        let mut n = 0;
+        while newton_running(&st) && n < MAX_NEWTON_STEPS {
+            newton_step::<f64, true, TERMS>(a, d, &mut st);
+            n += 1;
+        }
+        (n, newton_hit::<f64, true, TERMS>(a, d, &st))
+    }
+
+    /// 2,000 rays that meet `asph` (base curvature `c`, clear radius `sd`)
+    /// inside its aperture, each through a point within `reach` of the axis
+    /// on the plane `before` mm in front of the vertex, up to `tilt` rad
+    /// off the axis: how many end in one step from `ringed`'s start and from
+    /// `plain`'s. Each hit lies on the sag to 1e-12 mm and within 1e-11 mm
+    /// of where the plain start puts it.
+    fn one_step_rays<const TERMS: usize>(
+        asph: &Asphere,
+        c: f64,
+        sd: f64,
+        [ringed, plain]: [&AsphereLanes<f64>; 2],
+        (reach, tilt, before): (f64, f64, f64),
+        seed: u64,
+    ) -> (usize, usize) {
+        let mut next = crate::trace::uniform(seed);
         let (mut rays, mut one_ringed, mut one_plain) = (0, 0, 0);
         while rays < 2000 {
-            let (r, phi) = (0.98 * sd * next().sqrt(), std::f64::consts::TAU * next());
-            let (th, psi) = (0.3 * next(), std::f64::consts::TAU * next());
+            let (r, phi) = (reach * next().sqrt(), std::f64::consts::TAU * next());
+            let (th, psi) = (tilt * next(), std::f64::consts::TAU * next());
             let d = [th.sin() * psi.cos(), th.sin() * psi.sin(), th.cos()];
-            let p = [r * phi.cos() - 0.2 * d[0] / d[2], r * phi.sin() - 0.2 * d[1] / d[2], -0.2];
-            let (n, h) = steps(&ringed, p, d);
-            let (m, g) = steps(&plain, p, d);
+            // from `before` mm ahead of the vertex plane, through (r, phi)
+            // on it
+            let p = [r * phi.cos() - before * d[0] / d[2], r * phi.sin() - before * d[1] / d[2], -before];
+            let (n, h) = steps_to_hit::<TERMS>(ringed, p, d);
+            let (m, g) = steps_to_hit::<TERMS>(plain, p, d);
             if !(h.ok && h.converged) || h.x.hypot(h.y) > sd {
                 continue;
             }
             rays += 1;
-            let on = (h.z - phone.sag(c, h.x.hypot(h.y)).unwrap()).abs();
+            let on = (h.z - asph.sag(c, h.x.hypot(h.y)).unwrap()).abs();
             assert!(on < 1e-12 && (h.t - g.t).abs() < 1e-11, "off by {on:e}, {:e} from the plain start", h.t - g.t);
             one_ringed += usize::from(n == 1);
             one_plain += usize::from(m == 1);
         }
-        // 983 and 5 of 2000 when written (28 of the 32 rings with a conic
-        // of their own)
-        assert!(one_ringed > rays * 2 / 5, "{one_ringed} of {rays} took one step from the rings");
-        assert!(one_plain < rays / 50, "{one_plain} of {rays} took one step from the base conic");
+        (one_ringed, one_plain)
     }
 
     /// The front root is where the ray crosses the conic in its direction

@@ -75,6 +75,12 @@ impl M64x8 {
     pub(crate) fn bits(self) -> u32 {
         u32::from(self.0)
     }
+
+    /// The mask whose lane j is bit j of `bits` ([`Self::bits`] back).
+    #[inline(always)]
+    pub(crate) fn of_bits(bits: u32) -> Self {
+        M64x8(bits as __mmask8)
+    }
 }
 
 macro_rules! binary {

@@ -758,6 +758,8 @@ pub(super) trait Wide: Real {
     fn put(self, s: &mut [f64], j: usize);
     /// One bit per lane of `m`, lane 0 the lowest.
     fn mask_bits(m: Self::Mask) -> u64;
+    /// The mask of [`Self::mask_bits`]'s bits.
+    fn mask_of_bits(bits: u8) -> Self::Mask;
 }
 
 /// [`Wide`] for a lane type of `$n` lanes with `load`, `store` and a mask
@@ -778,6 +780,10 @@ macro_rules! wide {
             #[inline(always)]
             fn mask_bits(m: $mask) -> u64 {
                 u64::from(m.bits())
+            }
+            #[inline(always)]
+            fn mask_of_bits(bits: u8) -> $mask {
+                $mask::of_bits(u32::from(bits))
             }
         }
     };
@@ -960,6 +966,9 @@ fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, j: usize, sc: StartConic<W>)
 struct NewtonScratch {
     root: [f64; CHUNK * 6],
     state: [f64; CHUNK * 5],
+    /// The iteration's flags, converged and missed, a bit a lane (kept as
+    /// mask bits, not as numbers: fewer instructions a pass).
+    flags: [[u8; 2]; CHUNK],
     eval: [f64; CHUNK * 5],
     normal: [f64; CHUNK * 4],
 }
@@ -969,6 +978,7 @@ impl NewtonScratch {
     const ZERO: NewtonScratch = NewtonScratch {
         root: [0.0; CHUNK * 6],
         state: [0.0; CHUNK * 5],
+        flags: [[0; 2]; CHUNK],
         eval: [0.0; CHUNK * 5],
         normal: [0.0; CHUNK * 4],
     };
@@ -988,8 +998,9 @@ impl NewtonScratch {
     fn put_state<W: Wide, const THIRD: bool>(&mut self, j: usize, n: &Newton<W>) {
         let to = &mut self.state;
         n.u.put(to, 5 * j);
-        n.converged.put(to, 5 * j + 1);
-        n.missed.put(to, 5 * j + 2);
+        // a lane's bits (at most eight) fit a byte
+        let bits = |v: W| W::mask_bits(v.is_neg()) as u8;
+        self.flags[j] = [bits(n.converged), bits(n.missed)];
         if !THIRD {
             n.q.put(to, 5 * j + 3);
             n.m.put(to, 5 * j + 4);
@@ -1001,7 +1012,15 @@ impl NewtonScratch {
     fn state<W: Wide, const THIRD: bool>(&self, j: usize, p: [W; 3]) -> Newton<W> {
         let get = |k: usize| W::at(&self.state, 5 * j + k);
         let (q, m) = if THIRD { (W::splat(0.0), W::splat(1.0)) } else { (get(3), get(4)) };
-        Newton { p, u: get(0), q, m, converged: get(1), missed: get(2) }
+        let [converged, missed] = self.flags[j];
+        Newton {
+            p,
+            u: get(0),
+            q,
+            m,
+            converged: W::from_mask(W::mask_of_bits(converged)),
+            missed: W::from_mask(W::mask_of_bits(missed)),
+        }
     }
 
     #[inline(always)]

@@ -16,7 +16,8 @@ lenses so that all see the same machine) and prints the time per step:
   the film's own work (the double Gauss's time less its ten sphere steps and
   its stop plane) and its plane steps, divided by the number of aspheres.
 
-- an aspheric step of one lens's asphere alone, precisely: twenty copies of
+- an aspheric step of one lens's asphere alone (the Canon 35 mm's, the
+  Sony 50 mm's rear one), precisely: twenty copies of
   the surface (pairs 1 mm apart around a plate of index 1.001) behind a
   plano-convex singlet, against the same stack of its base spheres, the
   extra time a ray spends divided by twenty, plus a sphere step (a whole
@@ -115,13 +116,18 @@ def main():
     }
     canon = cases["Canon 35 mm f/2 (1 asphere)"]
     surface = next(s for s in canon["surfaces"] if "aspheric" in s)
-    stacks = {"Canon 35 mm asphere, 20 stacked": stacked(surface, False)}
+    sony = cases["Sony 50 mm f/1.4 (2 aspheres)"]
+    sony_surface = next(s for s in sony["surfaces"] if "conic" in s and "aspheric" in s)
+    stacks = {
+        "Canon 35 mm asphere, 20 stacked": (surface, stacked(surface, False)),
+        "Sony 50 mm rear asphere, 20 stacked": (sony_surface, stacked(sony_surface, False)),
+    }
     files = {}
     tmp = tempfile.mkdtemp(prefix="asphere-bench-")
     base = {}
     for name, lens in [("sphere", dg), ("sphere+10", dg20), ("plane+20", dgp)] + [
         (k, v) for name, lens in cases.items() for k, v in [(name, lens), (name + " [base]", spherical(lens))]
-    ] + [(k, v) for name, lens in stacks.items() for k, v in [(name, lens), (name + " [base]", stacked(surface, True))]]:
+    ] + [(k, v) for name, (surf, lens) in stacks.items() for k, v in [(name, lens), (name + " [base]", stacked(surf, True))]]:
         path = os.path.join(tmp, f"{len(files)}.json")
         with open(path, "w") as f:
             json.dump(lens, f)

@@ -60,15 +60,16 @@ impl<L: Real> Chain<L> {
         self.first(N, s)
     }
 
-    /// [`Self::at_len`] with `N - 1` terms (the chain `V`, a term shorter
-    /// than `B` and `D`); `N` = 0 is [`Self::at`].
+    /// [`Self::at_len`] with `N - less` terms (the chains a term or two
+    /// shorter than `B` and `D`: `V` and `E` one, `vo` two); `N` = 0 is
+    /// [`Self::at`].
     #[inline(always)]
-    fn at_len_less_one<const N: usize>(&self, s: L) -> L {
+    fn at_len_less<const N: usize>(&self, less: usize, s: L) -> L {
         if N == 0 {
             return self.at(s);
         }
-        debug_assert!(N >= 2 && self.n < N);
-        self.first(N - 1, s)
+        debug_assert!(N > less && self.n <= N - less);
+        self.first(N - less, s)
     }
 
     /// The first `len` (>= 1) terms at `s` by Horner's rule; `len` a
@@ -170,14 +171,23 @@ pub(crate) struct AsphereLanes<L> {
 /// `a_2`).
 pub(crate) const CHAIN_TERMS: [usize; 4] = [4, 5, 6, MAX_ASPHERE_POWER / 2];
 
-/// [`AsphereLanes::chain_terms`] of `asphere`.
+/// The chain lengths that get their own code for an asphere with odd
+/// powers (and no r^1 term): terms to r^10 (a phone lens's), or to
+/// [`MAX_ASPHERE_POWER`].
+pub(crate) const ODD_CHAIN_TERMS: [usize; 2] = [5, MAX_ASPHERE_POWER / 2];
+
+/// [`AsphereLanes::chain_terms`] of `asphere`: 0 for a surface with an r^1
+/// term (Newton's steps, each chain its own length) or none.
 fn chain_terms(asphere: &Asphere) -> usize {
-    if !asphere.is_even() || asphere.degree() == 0 {
+    let degree = asphere.degree();
+    if degree == 0 || asphere.coefficients[0] != 0.0 {
         return 0;
     }
-    // the longest chain, B and D's: terms a_2 .. a_degree
-    let n = asphere.degree() / 2;
-    CHAIN_TERMS.into_iter().find(|t| n <= *t).unwrap_or(0)
+    // the longest chains: B and D's (a_2 .. a_degree) for an even asphere,
+    // also C's (a_1 .. a_degree) for an odd one
+    let (n, buckets) =
+        if asphere.is_even() { (degree / 2, &CHAIN_TERMS[..]) } else { (degree.div_ceil(2), &ODD_CHAIN_TERMS[..]) };
+    buckets.iter().copied().find(|t| n <= *t).unwrap_or(0)
 }
 
 /// `1 + k` of the conic whose root starts an asphere's iteration (no
@@ -264,13 +274,21 @@ impl<L: Real> AsphereLanes<L> {
     }
 
     /// The `TERMS` the iteration's functions must be called with: the
-    /// chains' length for an even asphere, rounded up to one of
-    /// [`CHAIN_TERMS`] (the extra terms zeros), so that each length gets its
-    /// own code, without a branch per chain and ray; 0 (each chain its own
-    /// length, chosen per evaluation) for other surfaces.
+    /// longest chain's length, rounded up to one of [`CHAIN_TERMS`] for an
+    /// even asphere, of [`ODD_CHAIN_TERMS`] for one with odd powers (the
+    /// extra terms zeros), so that each length gets its own code, without a
+    /// branch or a loop per chain and ray; 0 (each chain its own length,
+    /// chosen per evaluation) for a surface with an r^1 term.
     #[inline(always)]
     pub(crate) fn chain_terms(&self) -> usize {
         self.terms
+    }
+
+    /// Whether some term has an odd power of r: the `ODD` the iteration's
+    /// functions must be called with where [`Self::chain_terms`] is not 0.
+    #[inline(always)]
+    pub(crate) fn odd(&self) -> bool {
+        self.odd
     }
 
     /// Whether Newton's iteration has anything to do: not for a pure conic,
@@ -290,25 +308,34 @@ impl<L: Real> AsphereLanes<L> {
 
     /// The polynomial part at `s` = r^2: its sag `P` and `Q = (dP/dr) /
     /// r`. On the axis (r = 0, where x = y = 0 and Q's value does not
-    /// matter) an r^1 term's `a_1 / r` is kept finite. `TERMS` is
-    /// [`Self::chain_terms`] (0 where some term has an odd power: each
-    /// chain then has its own length).
+    /// matter) an r^1 term's `a_1 / r` is kept finite. `TERMS` and `ODD`
+    /// are [`Self::chain_terms`] and [`Self::odd`] (`TERMS` = 0: each chain
+    /// its own length, and whether a term has an odd power read from the
+    /// surface).
     #[inline(always)]
-    fn poly<const TERMS: usize>(&self, s: L) -> (L, L) {
-        let (p, q, _) = self.poly_r::<TERMS>(s);
+    fn poly<const ODD: bool, const TERMS: usize>(&self, s: L) -> (L, L) {
+        let (p, q, _) = self.poly_r::<ODD, TERMS>(s);
         (p, q)
+    }
+
+    /// Whether the chains with odd powers of r are evaluated: `ODD`, or
+    /// where the chains' lengths are not constants (`TERMS` = 0), the
+    /// surface's own flag.
+    #[inline(always)]
+    fn odd_at<const ODD: bool, const TERMS: usize>(&self) -> bool {
+        ODD || (TERMS == 0 && self.odd)
     }
 
     /// [`Self::poly`] with `r` where a term has an odd power (0 where none
     /// has: it is not needed).
     #[inline(always)]
-    fn poly_r<const TERMS: usize>(&self, s: L) -> (L, L, L) {
+    fn poly_r<const ODD: bool, const TERMS: usize>(&self, s: L) -> (L, L, L) {
         let mut p = self.b.at_len::<TERMS>(s) * s;
         let mut q = self.d.at_len::<TERMS>(s);
-        if TERMS == 0 && self.odd {
+        if self.odd_at::<ODD, TERMS>() {
             let r = s.sqrt();
-            p = r.fma(self.cc.at(s), p);
-            q = r.fma(self.e.at(s), q);
+            p = r.fma(self.cc.at_len::<TERMS>(s), p);
+            q = r.fma(self.e.at_len_less::<TERMS>(1, s), q);
             if self.has_a1 {
                 q = q + self.a1 / r_or_one(r);
             }
@@ -321,10 +348,10 @@ impl<L: Real> AsphereLanes<L> {
     /// power ([`Self::poly_r`]'s). On the axis `3 a_3 / r` is kept finite
     /// (it multiplies `(r . D)^2`, 0 there).
     #[inline(always)]
-    fn v_at<const TERMS: usize>(&self, s: L, r: L) -> L {
-        let v = self.v.at_len_less_one::<TERMS>(s);
-        if TERMS == 0 && self.odd {
-            let v = r.fma(self.vo.at(s), v);
+    fn v_at<const ODD: bool, const TERMS: usize>(&self, s: L, r: L) -> L {
+        let v = self.v.at_len_less::<TERMS>(1, s);
+        if self.odd_at::<ODD, TERMS>() {
+            let v = r.fma(self.vo.at_len_less::<TERMS>(2, s), v);
             if self.has_a3 {
                 return v + self.v3 / r_or_one(r);
             }
@@ -606,12 +633,12 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
 /// `THIRD` must be [`AsphereLanes::third_order`] (as for the functions
 /// below): a constant, so that each kind of surface gets its own code.
 #[inline(always)]
-pub(crate) fn newton_step<L: Real, const THIRD: bool, const TERMS: usize>(
+pub(crate) fn newton_step<L: Real, const THIRD: bool, const ODD: bool, const TERMS: usize>(
     a: &AsphereLanes<L>,
     d: [L; 3],
     st: &mut Newton<L>,
 ) {
-    let ev = newton_eval::<L, THIRD, TERMS>(a, d, st);
+    let ev = newton_eval::<L, THIRD, ODD, TERMS>(a, d, st);
     newton_finish::<L, THIRD>(st, &ev);
 }
 
@@ -633,7 +660,7 @@ pub(crate) struct NewtonEval<L> {
 
 /// The part of [`newton_step`] before its division.
 #[inline(always)]
-pub(crate) fn newton_eval<L: Real, const THIRD: bool, const TERMS: usize>(
+pub(crate) fn newton_eval<L: Real, const THIRD: bool, const ODD: bool, const TERMS: usize>(
     a: &AsphereLanes<L>,
     d: [L; 3],
     st: &Newton<L>,
@@ -643,7 +670,7 @@ pub(crate) fn newton_eval<L: Real, const THIRD: bool, const TERMS: usize>(
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
     let s = x.fma(x, y * y);
-    let (pp, q, r) = a.poly_r::<TERMS>(s);
+    let (pp, q, r) = a.poly_r::<ODD, TERMS>(s);
     let w = z - pp;
     let m = (-a.k1c).fma(w, one);
     // G / 2 = c s / 2 + w (k1c w / 2 - 1); G' / 2 = c (r . d) - m w',
@@ -655,7 +682,7 @@ pub(crate) fn newton_eval<L: Real, const THIRD: bool, const TERMS: usize>(
     let gpp = if THIRD {
         // G'' / 2 = c rho^2 - m w'' + k1c w'^2, -w'' = Q rho^2 + V rd^2
         let rho2 = d[0].fma(d[0], d[1] * d[1]);
-        let minus_wpp = q.fma(rho2, a.v_at::<TERMS>(s, r) * rd * rd);
+        let minus_wpp = q.fma(rho2, a.v_at::<ODD, TERMS>(s, r) * rd * rd);
         (a.k1c * wp).fma(wp, m.fma(minus_wpp, a.c * rho2))
     } else {
         L::splat(0.0)
@@ -706,7 +733,7 @@ pub(crate) fn newton_running<L: Real>(st: &Newton<L>) -> bool {
 
 /// The hit after the iteration, with the normal there.
 #[inline(always)]
-pub(crate) fn newton_hit<L: Real, const THIRD: bool, const TERMS: usize>(
+pub(crate) fn newton_hit<L: Real, const THIRD: bool, const ODD: bool, const TERMS: usize>(
     a: &AsphereLanes<L>,
     d: [L; 3],
     st: &Newton<L>,
@@ -719,7 +746,7 @@ pub(crate) fn newton_hit<L: Real, const THIRD: bool, const TERMS: usize>(
     // at most the tolerance away, is the hit's)
     let r2 = x.fma(x, y * y);
     let (m, q) = if THIRD {
-        let (pp, q) = a.poly::<TERMS>(r2);
+        let (pp, q) = a.poly::<ODD, TERMS>(r2);
         ((-a.k1c).fma(z - pp, L::splat(1.0)), q)
     } else {
         (st.m, st.q)
@@ -747,28 +774,34 @@ pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3], r2:
 /// left the iteration or [`MAX_NEWTON_STEPS`] were taken.
 #[inline(always)]
 pub(crate) fn meet_asphere<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
-    match (a.third_order, a.terms) {
-        (false, _) => meet::<L, false, 0>(a, p, d),
-        (true, 0) => meet::<L, true, 0>(a, p, d),
-        (true, 4) => meet::<L, true, 4>(a, p, d),
-        (true, 5) => meet::<L, true, 5>(a, p, d),
-        (true, 6) => meet::<L, true, 6>(a, p, d),
-        (true, _) => meet::<L, true, 8>(a, p, d),
+    match (a.third_order, a.odd, a.terms) {
+        (false, _, _) => meet::<L, false, false, 0>(a, p, d),
+        (true, false, 4) => meet::<L, true, false, 4>(a, p, d),
+        (true, false, 5) => meet::<L, true, false, 5>(a, p, d),
+        (true, false, 6) => meet::<L, true, false, 6>(a, p, d),
+        (true, false, _) => meet::<L, true, false, 8>(a, p, d),
+        (true, true, 5) => meet::<L, true, true, 5>(a, p, d),
+        (true, true, _) => meet::<L, true, true, 8>(a, p, d),
     }
 }
 
-/// [`meet_asphere`] for a surface whose [`AsphereLanes::third_order`] is
-/// `THIRD`.
+/// [`meet_asphere`] for a surface whose [`AsphereLanes::third_order`],
+/// [`AsphereLanes::odd`] and [`AsphereLanes::chain_terms`] are `THIRD`,
+/// `ODD` and `TERMS`.
 #[inline(always)]
-fn meet<L: Real, const THIRD: bool, const TERMS: usize>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
+fn meet<L: Real, const THIRD: bool, const ODD: bool, const TERMS: usize>(
+    a: &AsphereLanes<L>,
+    p: [L; 3],
+    d: [L; 3],
+) -> AsphereHit<L> {
     let mut st = newton_start(a, p, d);
     for _ in 0..MAX_NEWTON_STEPS {
         if !newton_running(&st) {
             break;
         }
-        newton_step::<L, THIRD, TERMS>(a, d, &mut st);
+        newton_step::<L, THIRD, ODD, TERMS>(a, d, &mut st);
     }
-    newton_hit::<L, THIRD, TERMS>(a, d, &st)
+    newton_hit::<L, THIRD, ODD, TERMS>(a, d, &st)
 }
 
 /// An asphere step: shift into the surface's frame, intersect
@@ -913,10 +946,10 @@ mod tests {
         let plain = AsphereLanes::<f64>::of(c, &canon, f64::INFINITY);
         assert!(ringed.zones.is_some() && plain.zones.is_none());
         let (one_ringed, one_plain) =
-            one_step_rays::<4>(&canon, c, 11.9, [&ringed, &plain], (11.5, 25f64.to_radians(), 0.5), 0x5eed);
+            one_step_rays::<false, 4>(&canon, c, 11.9, [&ringed, &plain], (11.5, 25f64.to_radians(), 0.5), 0x5eed);
         assert_eq!(one_ringed, 2000, "rays taking one step from the rings");
         assert!(one_plain < 200, "{one_plain} of 2000 took one step from the sphere");
-        let steps = steps_to_hit::<4>;
+        let steps = steps_to_hit::<false, 4>;
         // a ray far outside the aperture misses the outermost ring's conic
         // (an ellipsoid 17 mm across): it starts from the sphere's root, as
         // without rings
@@ -956,11 +989,11 @@ mod tests {
         let (c, sd) = (1.0 / 1.509, 2.9297);
         let ringed = AsphereLanes::<f64>::of(c, &phone, sd * sd);
         let plain = AsphereLanes::<f64>::of(c, &phone, f64::INFINITY);
-        assert!(ringed.third_order() && ringed.chain_terms() == 0);
+        assert!(ringed.third_order() && ringed.odd() && ringed.chain_terms() == 5);
         let zones = ringed.zones.as_ref().expect("rings");
         assert!(zones.own_conics() > 20, "{} rings with their own conic", zones.own_conics());
         let (one_ringed, one_plain) =
-            one_step_rays::<0>(&phone, c, sd, [&ringed, &plain], (0.98 * sd, 0.3, 0.2), 0xfee1);
+            one_step_rays::<true, 5>(&phone, c, sd, [&ringed, &plain], (0.98 * sd, 0.3, 0.2), 0xfee1);
         // 983 and 5 of 2000 when written (28 of the 32 rings with a conic
         // of their own)
         assert!(one_ringed > 800, "{one_ringed} of 2000 took one step from the rings");
@@ -968,15 +1001,20 @@ mod tests {
     }
 
     /// The third-order steps a ray `p + t d` takes to its hit on `a`
-    /// (`TERMS` its [`AsphereLanes::chain_terms`]), and the hit.
-    fn steps_to_hit<const TERMS: usize>(a: &AsphereLanes<f64>, p: [f64; 3], d: [f64; 3]) -> (usize, AsphereHit<f64>) {
+    /// (`ODD` and `TERMS` its [`AsphereLanes::odd`] and
+    /// [`AsphereLanes::chain_terms`]), and the hit.
+    fn steps_to_hit<const ODD: bool, const TERMS: usize>(
+        a: &AsphereLanes<f64>,
+        p: [f64; 3],
+        d: [f64; 3],
+    ) -> (usize, AsphereHit<f64>) {
         let mut st = newton_start(a, p, d);
         let mut n = 0;
         while newton_running(&st) && n < MAX_NEWTON_STEPS {
-            newton_step::<f64, true, TERMS>(a, d, &mut st);
+            newton_step::<f64, true, ODD, TERMS>(a, d, &mut st);
             n += 1;
         }
-        (n, newton_hit::<f64, true, TERMS>(a, d, &st))
+        (n, newton_hit::<f64, true, ODD, TERMS>(a, d, &st))
     }
 
     /// 2,000 rays that meet `asph` (base curvature `c`, clear radius `sd`)
@@ -985,7 +1023,7 @@ mod tests {
     /// off the axis: how many end in one step from `ringed`'s start and from
     /// `plain`'s. Each hit lies on the sag to 1e-12 mm and within 1e-11 mm
     /// of where the plain start puts it.
-    fn one_step_rays<const TERMS: usize>(
+    fn one_step_rays<const ODD: bool, const TERMS: usize>(
         asph: &Asphere,
         c: f64,
         sd: f64,
@@ -1002,8 +1040,8 @@ mod tests {
             // from `before` mm ahead of the vertex plane, through (r, phi)
             // on it
             let p = [r * phi.cos() - before * d[0] / d[2], r * phi.sin() - before * d[1] / d[2], -before];
-            let (n, h) = steps_to_hit::<TERMS>(ringed, p, d);
-            let (m, g) = steps_to_hit::<TERMS>(plain, p, d);
+            let (n, h) = steps_to_hit::<ODD, TERMS>(ringed, p, d);
+            let (m, g) = steps_to_hit::<ODD, TERMS>(plain, p, d);
             if !(h.ok && h.converged) || h.x.hypot(h.y) > sd {
                 continue;
             }

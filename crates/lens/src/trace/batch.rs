@@ -227,7 +227,7 @@ fn prefetch_lines<T>(p: *const T, n: usize) {
 /// vector), structure of arrays.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
-struct Rays4 {
+pub(super) struct Rays4 {
     x: [[f64; 4]; VECTORS],
     y: [[f64; 4]; VECTORS],
     z: [[f64; 4]; VECTORS],
@@ -307,7 +307,7 @@ struct Chunk {
 /// A step's verdicts for a chunk, one bit per ray.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy, Default)]
-struct Bits {
+pub(super) struct Bits {
     /// The ray did not pass.
     failed: u64,
     /// It met the surface.
@@ -715,9 +715,10 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
     if let Some(a8) = step_asphere::<_, SHAPE>(aspheres8, k) {
         // SAFETY: `aspheres8` is filled only where the CPU has AVX-512F and
         // VL (Chunk::for_tracer); AVX2 and FMA are this function's.
-        unsafe { asphere_chunk_wide::<REFRACT, PER_RAY>(s, a8, src, dst, n.div_ceil(2), ix, &mut bits, newton) }
+        unsafe { asphere_chunk_of::<F64x8, REFRACT, PER_RAY>(s, a8, src, dst, n.div_ceil(2), ix, &mut bits, newton) }
     } else if let Some(a4) = step_asphere::<_, SHAPE>(aspheres, k) {
-        asphere_chunk_of::<F64x4, REFRACT, PER_RAY>(s, &sl, a4, src, dst, n, ix, &mut bits, newton)
+        // SAFETY: AVX2 and FMA are this function's
+        unsafe { asphere_chunk_of::<F64x4, REFRACT, PER_RAY>(s, a4, src, dst, n, ix, &mut bits, newton) }
     } else if *wide {
         // SAFETY: `wide` is set only where the CPU has AVX-512F and VL
         // (Chunk::for_tracer); AVX2 and FMA are this function's.
@@ -760,12 +761,36 @@ pub(super) trait Wide: Real {
     fn mask_bits(m: Self::Mask) -> u64;
     /// The mask of [`Self::mask_bits`]'s bits.
     fn mask_of_bits(bits: u8) -> Self::Mask;
+    /// [`asphere_chunk`] at this width for one kind of asphere
+    /// ([`asphere_kind_wide`], [`asphere_kind_narrow`]).
+    ///
+    /// # Safety
+    ///
+    /// The CPU must have the width's target features: AVX2 and FMA, and
+    /// for eight lanes AVX-512F and AVX-512VL.
+    #[allow(clippy::too_many_arguments)]
+    unsafe fn asphere_kind<
+        const REFRACT: bool,
+        const PER_RAY: bool,
+        const THIRD: bool,
+        const ODD: bool,
+        const TERMS: usize,
+    >(
+        s: &Step,
+        a: &AsphereLanes<Self>,
+        src: &Rays4,
+        dst: &mut Rays4,
+        n: usize,
+        ix: &ChunkIndices,
+        bits: &mut Bits,
+        nw: &mut NewtonScratch,
+    );
 }
 
 /// [`Wide`] for a lane type of `$n` lanes with `load`, `store` and a mask
 /// type with `bits`.
 macro_rules! wide {
-    ($t:ident, $mask:ident, $n:literal) => {
+    ($t:ident, $mask:ident, $n:literal, $kind:ident) => {
         #[cfg(target_arch = "x86_64")]
         impl Wide for $t {
             const N: usize = $n;
@@ -785,12 +810,32 @@ macro_rules! wide {
             fn mask_of_bits(bits: u8) -> $mask {
                 $mask::of_bits(u32::from(bits))
             }
+            #[inline(always)]
+            unsafe fn asphere_kind<
+                const REFRACT: bool,
+                const PER_RAY: bool,
+                const THIRD: bool,
+                const ODD: bool,
+                const TERMS: usize,
+            >(
+                s: &Step,
+                a: &AsphereLanes<Self>,
+                src: &Rays4,
+                dst: &mut Rays4,
+                n: usize,
+                ix: &ChunkIndices,
+                bits: &mut Bits,
+                nw: &mut NewtonScratch,
+            ) {
+                // SAFETY: the caller's
+                unsafe { $kind::<REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, a, src, dst, n, ix, bits, nw) }
+            }
         }
     };
 }
 
-wide!(F64x4, M64x4, 4);
-wide!(F64x8, M64x8, 8);
+wide!(F64x4, M64x4, 4, asphere_kind_narrow);
+wide!(F64x8, M64x8, 8, asphere_kind_wide);
 
 /// Vector `j` of `rays`: points, directions, path lengths.
 #[cfg(target_arch = "x86_64")]
@@ -892,16 +937,26 @@ unsafe fn wide_aspheres(t: &Tracer) -> Vec<Option<AsphereLanes<F64x8>>> {
     t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect()
 }
 
-/// [`asphere_chunk`] eight rays a vector, over the chunk's first `n`
-/// eight-ray vectors.
+/// [`asphere_chunk`] for one kind of asphere, eight rays a vector, over the
+/// chunk's first `n` eight-ray vectors: a function of its own for each kind
+/// (`THIRD`, `ODD`, `TERMS`), so that one kind's code and its layout do not
+/// move with another's (all kinds in one function, adding a kind moved
+/// the others' steps by 0.1-0.2 ns).
 ///
 /// # Safety
 ///
 /// The CPU must have AVX2, FMA, AVX-512F and AVX-512VL.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+#[inline(never)]
 #[allow(clippy::too_many_arguments)]
-unsafe fn asphere_chunk_wide<const REFRACT: bool, const PER_RAY: bool>(
+unsafe fn asphere_kind_wide<
+    const REFRACT: bool,
+    const PER_RAY: bool,
+    const THIRD: bool,
+    const ODD: bool,
+    const TERMS: usize,
+>(
     s: &Step,
     a: &AsphereLanes<F64x8>,
     src: &Rays4,
@@ -912,18 +967,49 @@ unsafe fn asphere_chunk_wide<const REFRACT: bool, const PER_RAY: bool>(
     nw: &mut NewtonScratch,
 ) {
     let sl = StepLanes::<F64x8>::of(s);
-    asphere_chunk_of::<F64x8, REFRACT, PER_RAY>(s, &sl, a, src, dst, n, ix, bits, nw)
+    asphere_chunk::<F64x8, REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, &sl, a, src, dst, n, ix, bits, nw)
 }
 
-/// [`asphere_chunk`] for the surface `a`'s kind of step: direct calls, each
-/// inlined into the calling function with its target features (a function
-/// pointer would lose them).
+/// [`asphere_kind_wide`] four rays a vector.
+///
+/// # Safety
+///
+/// The CPU must have AVX2 and FMA.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn asphere_kind_narrow<
+    const REFRACT: bool,
+    const PER_RAY: bool,
+    const THIRD: bool,
+    const ODD: bool,
+    const TERMS: usize,
+>(
+    s: &Step,
+    a: &AsphereLanes<F64x4>,
+    src: &Rays4,
+    dst: &mut Rays4,
+    n: usize,
+    ix: &ChunkIndices,
+    bits: &mut Bits,
+    nw: &mut NewtonScratch,
+) {
+    let sl = StepLanes::<F64x4>::of(s);
+    asphere_chunk::<F64x4, REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, &sl, a, src, dst, n, ix, bits, nw)
+}
+
+/// [`asphere_chunk`] for the surface `a`'s kind of step, `W::N` rays a
+/// vector over the chunk's first `n` vectors ([`Wide::asphere_kind`]).
+///
+/// # Safety
+///
+/// The CPU must have `W`'s target features ([`Wide::asphere_kind`]).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
+unsafe fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
     s: &Step,
-    sl: &StepLanes<W>,
     a: &AsphereLanes<W>,
     src: &Rays4,
     dst: &mut Rays4,
@@ -932,13 +1018,17 @@ fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
     b: &mut Bits,
     nw: &mut NewtonScratch,
 ) {
-    match (a.third_order(), a.chain_terms()) {
-        (false, _) => asphere_chunk::<W, REFRACT, PER_RAY, false, 0>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, 0) => asphere_chunk::<W, REFRACT, PER_RAY, true, 0>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, 4) => asphere_chunk::<W, REFRACT, PER_RAY, true, 4>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, 5) => asphere_chunk::<W, REFRACT, PER_RAY, true, 5>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, 6) => asphere_chunk::<W, REFRACT, PER_RAY, true, 6>(s, sl, a, src, dst, n, ix, b, nw),
-        (true, _) => asphere_chunk::<W, REFRACT, PER_RAY, true, 8>(s, sl, a, src, dst, n, ix, b, nw),
+    // SAFETY: the caller's
+    unsafe {
+        match (a.third_order(), a.odd(), a.chain_terms()) {
+            (false, _, _) => W::asphere_kind::<REFRACT, PER_RAY, false, false, 0>(s, a, src, dst, n, ix, b, nw),
+            (true, false, 4) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 4>(s, a, src, dst, n, ix, b, nw),
+            (true, false, 5) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 5>(s, a, src, dst, n, ix, b, nw),
+            (true, false, 6) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 6>(s, a, src, dst, n, ix, b, nw),
+            (true, false, _) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 8>(s, a, src, dst, n, ix, b, nw),
+            (true, true, 5) => W::asphere_kind::<REFRACT, PER_RAY, true, true, 5>(s, a, src, dst, n, ix, b, nw),
+            (true, true, _) => W::asphere_kind::<REFRACT, PER_RAY, true, true, 8>(s, a, src, dst, n, ix, b, nw),
+        }
     }
 }
 
@@ -964,7 +1054,7 @@ fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, j: usize, sc: StartConic<W>)
 /// width.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
-struct NewtonScratch {
+pub(super) struct NewtonScratch {
     root: [f64; CHUNK * 6],
     /// A vector's `u`, then two unused slots (the flags' before they were
     /// bits: packing `q` and `m` after `u` measured 0.04-0.2 ns a step
@@ -1063,7 +1153,8 @@ fn flag_bits<W: Wide>(flag: W) -> u8 {
 /// dependent operations overlap (one vector at a time waits on each
 /// division in turn). Each lane takes the steps the one-ray path takes, so
 /// the bits agree. `THIRD` is the surface's [`AsphereLanes::third_order`],
-/// `TERMS` its [`AsphereLanes::chain_terms`].
+/// `ODD` its [`AsphereLanes::odd`], `TERMS` its
+/// [`AsphereLanes::chain_terms`].
 ///
 /// Every stage is a loop over the vectors that stores what the next needs
 /// in `nw` (for a surface with rings, each ray's ring, then its conic;
@@ -1075,7 +1166,14 @@ fn flag_bits<W: Wide>(flag: W) -> u8 {
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn asphere_chunk<W: Wide, const REFRACT: bool, const PER_RAY: bool, const THIRD: bool, const TERMS: usize>(
+fn asphere_chunk<
+    W: Wide,
+    const REFRACT: bool,
+    const PER_RAY: bool,
+    const THIRD: bool,
+    const ODD: bool,
+    const TERMS: usize,
+>(
     s: &Step,
     sl: &StepLanes<W>,
     a: &AsphereLanes<W>,
@@ -1140,7 +1238,7 @@ fn asphere_chunk<W: Wide, const REFRACT: bool, const PER_RAY: bool, const THIRD:
         }
         for j in ones(live) {
             let (p, d) = ray(j);
-            let ev = newton_eval::<W, THIRD, TERMS>(a, d, &nw.state::<W, THIRD>(j, p));
+            let ev = newton_eval::<W, THIRD, ODD, TERMS>(a, d, &nw.state::<W, THIRD>(j, p));
             nw.put_eval::<W, THIRD>(j, &ev);
         }
         let mut next = 0u64;
@@ -1155,7 +1253,7 @@ fn asphere_chunk<W: Wide, const REFRACT: bool, const PER_RAY: bool, const THIRD:
     }
     for j in 0..n {
         let (p, d) = ray(j);
-        let h = newton_hit::<W, THIRD, TERMS>(a, d, &nw.state::<W, THIRD>(j, p));
+        let h = newton_hit::<W, THIRD, ODD, TERMS>(a, d, &nw.state::<W, THIRD>(j, p));
         put_vectors(&mut nw.normal, j, [h.n[0], h.n[1], h.n[2], h.r2]);
     }
     for j in 0..n {

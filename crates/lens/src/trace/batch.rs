@@ -1048,20 +1048,23 @@ fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, j: usize, sc: StartConic<W>)
 /// passes), a pass's evaluation (until its division) and the hit's normal
 /// (until the refraction). Only what the surface's kind of step reads is
 /// stored: a third-order step's hit evaluates its own normal, so neither
-/// its state nor its evaluation keeps `Q` and `m`; the iteration's flags
-/// are kept as bits. Each array of numbers holds, for each vector in turn,
+/// its state nor its evaluation keeps `Q` and `m`; at eight lanes the
+/// iteration's flags are kept as bits. Each array of numbers holds, for each vector in turn,
 /// its numbers one vector after another ([`get4`]), whatever the vector's
 /// width.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 pub(super) struct NewtonScratch {
     root: [f64; CHUNK * 6],
-    /// A vector's `u`, then two unused slots (the flags' before they were
-    /// bits: packing `q` and `m` after `u` measured 0.04-0.2 ns a step
-    /// slower, docs/performance.md), then `q` and `m`.
+    /// A vector's `u`, then (four lanes) its flags converged and missed as
+    /// numbers or (eight lanes) two unused slots (packing `q` and `m` after
+    /// `u` measured 0.04-0.2 ns a step slower, docs/performance.md), then
+    /// `q` and `m`.
     state: [f64; CHUNK * 5],
-    /// The iteration's flags, converged and missed, a bit a lane (kept as
-    /// mask bits, not as numbers: fewer instructions a pass).
+    /// Eight lanes: the iteration's flags, converged and missed, a bit a
+    /// lane (mask bits, not numbers: fewer instructions a pass; four lanes
+    /// have no mask registers, and a byte costs them a broadcast, an `and`
+    /// and a compare to read: they keep numbers).
     flags: [[u8; 2]; CHUNK],
     eval: [f64; CHUNK * 5],
     normal: [f64; CHUNK * 4],
@@ -1092,7 +1095,12 @@ impl NewtonScratch {
     fn put_state<W: Wide, const THIRD: bool>(&mut self, j: usize, n: &Newton<W>) {
         let to = &mut self.state;
         n.u.put(to, 5 * j);
-        self.flags[j] = [flag_bits(n.converged), flag_bits(n.missed)];
+        if W::N == 8 {
+            self.flags[j] = [flag_bits(n.converged), flag_bits(n.missed)];
+        } else {
+            n.converged.put(to, 5 * j + 1);
+            n.missed.put(to, 5 * j + 2);
+        }
         if !THIRD {
             n.q.put(to, 5 * j + 3);
             n.m.put(to, 5 * j + 4);
@@ -1104,15 +1112,13 @@ impl NewtonScratch {
     fn state<W: Wide, const THIRD: bool>(&self, j: usize, p: [W; 3]) -> Newton<W> {
         let get = |k: usize| W::at(&self.state, 5 * j + k);
         let (q, m) = if THIRD { (W::splat(0.0), W::splat(1.0)) } else { (get(3), get(4)) };
-        let [converged, missed] = self.flags[j];
-        Newton {
-            p,
-            u: get(0),
-            q,
-            m,
-            converged: W::from_mask(W::mask_of_bits(converged)),
-            missed: W::from_mask(W::mask_of_bits(missed)),
-        }
+        let (converged, missed) = if W::N == 8 {
+            let [converged, missed] = self.flags[j];
+            (W::from_mask(W::mask_of_bits(converged)), W::from_mask(W::mask_of_bits(missed)))
+        } else {
+            (get(1), get(2))
+        };
+        Newton { p, u: get(0), q, m, converged, missed }
     }
 
     #[inline(always)]

@@ -30,7 +30,7 @@ pub const ESTIMATE_FROM_MM: f64 = 1e-3;
 
 /// A polynomial in `s` = r^2 by Horner's rule: its coefficients from
 /// `s^0`, and how many.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Chain<L> {
     c: [L; MAX_ASPHERE_POWER / 2],
     n: usize,
@@ -108,7 +108,7 @@ impl<L: Real> Chain<L> {
 /// their latencies overlap (a single Horner chain in r over ten terms was
 /// the step's longest wait); an even asphere has only B and D and no square
 /// root. Only an r^1 term needs a division by r.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct AsphereLanes<L> {
     /// Base curvature, 1/mm.
     c: L,

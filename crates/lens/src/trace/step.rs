@@ -670,12 +670,18 @@ pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -
 }
 
 /// [`step_lanes`] with the step's `refract` flag and shape turned into the
-/// kernel's constants.
+/// kernel's constants; `asphere` is the step's asphere in the kernel's
+/// numbers (made once per tracer, [`super::tracer::Tracer`]), `None` for a
+/// step of another shape.
 #[inline(always)]
-pub(crate) fn step_dispatch<L: Real>(s: &Step, k: &StepLanes<L>, l: Lane<L>) -> StepOut<L> {
-    if let (ASPHERE, Some(a)) = (s.shape, &s.asphere) {
-        let a = AsphereLanes::with_zones(s.c, a, s.sd2, s.zones);
-        return if s.refract { asphere_step::<L, true>(k, &a, l) } else { asphere_step::<L, false>(k, &a, l) };
+pub(crate) fn step_dispatch<L: Real>(
+    s: &Step,
+    asphere: Option<&AsphereLanes<L>>,
+    k: &StepLanes<L>,
+    l: Lane<L>,
+) -> StepOut<L> {
+    if let (ASPHERE, Some(a)) = (s.shape, asphere) {
+        return if s.refract { asphere_step::<L, true>(k, a, l) } else { asphere_step::<L, false>(k, a, l) };
     }
     match (s.refract, s.shape) {
         (true, PLANE) => step_lanes::<L, true, PLANE>(k, l),

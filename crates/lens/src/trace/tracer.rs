@@ -4,6 +4,7 @@
 //! [`super::batch`]; both run the same step kernel, so they agree bit for
 //! bit.
 
+use super::asphere::AsphereLanes;
 use super::ray::{Outcome, Ray};
 use super::step::*;
 use crate::glass::kernel::Kernel;
@@ -35,6 +36,18 @@ pub struct Tracer {
     pub(crate) glasses: Arc<[Glass]>,
     /// Each glass's formula as the kernel evaluates it.
     pub(crate) kernels: Vec<Kernel>,
+    /// Each step's asphere as the one-ray path evaluates it (`None` for the
+    /// other steps), made once with the steps ([`one_ray_aspheres`]): made
+    /// per ray, it cost a ray some 100-250 ns an asphere (its rings
+    /// copied, its chains built).
+    pub(crate) aspheres: Vec<Option<AsphereLanes<f64>>>,
+}
+
+/// Each step's asphere in the one-ray path's numbers ([`Tracer::aspheres`]),
+/// from its curvature, terms, clear aperture and rings as they are now:
+/// made again wherever a tracer's steps change.
+fn one_ray_aspheres(steps: &[Step]) -> Vec<Option<AsphereLanes<f64>>> {
+    steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect()
 }
 
 impl Tracer {
@@ -102,7 +115,8 @@ impl Tracer {
     fn with_glasses(steps: Vec<Step>, p: &Prescription) -> Self {
         let glasses = p.glasses_shared();
         let kernels = glasses.iter().map(|g| Kernel::of(&g.dispersion)).collect();
-        Tracer { steps, glasses, kernels }
+        let aspheres = one_ray_aspheres(&steps);
+        Tracer { steps, glasses, kernels, aspheres }
     }
 
     /// From image space (the film) back to object space. The ray starts in
@@ -143,6 +157,7 @@ impl Tracer {
         for s in &mut t.steps {
             s.sd2 = f64::INFINITY;
         }
+        t.aspheres = one_ray_aspheres(&t.steps);
         t
     }
 
@@ -152,6 +167,7 @@ impl Tracer {
     pub fn forward_without_stop(p: &Prescription) -> Tracer {
         let mut t = Tracer::forward(p);
         t.steps[p.stop_index()].sd2 = f64::INFINITY;
+        t.aspheres = one_ray_aspheres(&t.steps);
         t
     }
 
@@ -234,7 +250,7 @@ impl Tracer {
         mut visit: impl FnMut(&Step, &Lane<f64>, u64),
     ) -> (Lane<f64>, usize, u64) {
         for (k, s) in self.steps.iter().enumerate() {
-            let out = step_dispatch(s, &lanes(s), l);
+            let out = step_dispatch(s, self.aspheres[k].as_ref(), &lanes(s), l);
             let kind = out.verdict.kind();
             if kind != PASSED {
                 l = stopped(s, l, out.next, kind);

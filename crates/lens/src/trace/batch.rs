@@ -787,10 +787,47 @@ pub(super) trait Wide: Real {
     );
 }
 
-/// [`Wide`] for a lane type of `$n` lanes with `load`, `store` and a mask
-/// type with `bits`.
+/// [`Wide`] for a lane type `$t` of `$n` lanes with `load`, `store` and a
+/// mask type `$mask` with `bits`, and its kernel for one kind of asphere,
+/// `$kind`, compiled with `$features`.
 macro_rules! wide {
-    ($t:ident, $mask:ident, $n:literal, $kind:ident) => {
+    ($t:ident, $mask:ident, $n:literal, $kind:ident, $features:literal) => {
+        /// [`asphere_chunk`] for one kind of asphere at this width, over
+        /// the chunk's first `n` vectors: a function of its own for each
+        /// kind (`THIRD`, `ODD`, `TERMS`) and width, so that one kind's code
+        /// and its layout do not move with another's (all kinds in one
+        /// function, adding a kind moved the others' steps by 0.1-0.2 ns).
+        /// Its arguments one by one, not in a struct: references read from
+        /// a struct are not known apart, and the kernel then reloads what
+        /// it keeps in registers (measured: 0.4 ns a step slower).
+        ///
+        /// # Safety
+        ///
+        #[doc = concat!("The CPU must have these features: ", $features, ".")]
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        #[inline(never)]
+        #[allow(clippy::too_many_arguments)]
+        unsafe fn $kind<
+            const REFRACT: bool,
+            const PER_RAY: bool,
+            const THIRD: bool,
+            const ODD: bool,
+            const TERMS: usize,
+        >(
+            s: &Step,
+            a: &AsphereLanes<$t>,
+            src: &Rays4,
+            dst: &mut Rays4,
+            n: usize,
+            ix: &ChunkIndices,
+            bits: &mut Bits,
+            nw: &mut NewtonScratch,
+        ) {
+            let sl = StepLanes::<$t>::of(s);
+            asphere_chunk::<$t, REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, &sl, a, src, dst, n, ix, bits, nw)
+        }
+
         #[cfg(target_arch = "x86_64")]
         impl Wide for $t {
             const N: usize = $n;
@@ -834,8 +871,8 @@ macro_rules! wide {
     };
 }
 
-wide!(F64x4, M64x4, 4, asphere_kind_narrow);
-wide!(F64x8, M64x8, 8, asphere_kind_wide);
+wide!(F64x4, M64x4, 4, asphere_kind_narrow, "avx2,fma");
+wide!(F64x8, M64x8, 8, asphere_kind_wide, "avx2,fma,avx512f,avx512vl");
 
 /// Vector `j` of `rays`: points, directions, path lengths.
 #[cfg(target_arch = "x86_64")]
@@ -935,68 +972,6 @@ pub(super) fn wide_registers() -> bool {
 #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
 unsafe fn wide_aspheres(t: &Tracer) -> Vec<Option<AsphereLanes<F64x8>>> {
     t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect()
-}
-
-/// [`asphere_chunk`] for one kind of asphere, eight rays a vector, over the
-/// chunk's first `n` eight-ray vectors: a function of its own for each kind
-/// (`THIRD`, `ODD`, `TERMS`), so that one kind's code and its layout do not
-/// move with another's (all kinds in one function, adding a kind moved
-/// the others' steps by 0.1-0.2 ns).
-///
-/// # Safety
-///
-/// The CPU must have AVX2, FMA, AVX-512F and AVX-512VL.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-#[inline(never)]
-#[allow(clippy::too_many_arguments)]
-unsafe fn asphere_kind_wide<
-    const REFRACT: bool,
-    const PER_RAY: bool,
-    const THIRD: bool,
-    const ODD: bool,
-    const TERMS: usize,
->(
-    s: &Step,
-    a: &AsphereLanes<F64x8>,
-    src: &Rays4,
-    dst: &mut Rays4,
-    n: usize,
-    ix: &ChunkIndices,
-    bits: &mut Bits,
-    nw: &mut NewtonScratch,
-) {
-    let sl = StepLanes::<F64x8>::of(s);
-    asphere_chunk::<F64x8, REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, &sl, a, src, dst, n, ix, bits, nw)
-}
-
-/// [`asphere_kind_wide`] four rays a vector.
-///
-/// # Safety
-///
-/// The CPU must have AVX2 and FMA.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline(never)]
-#[allow(clippy::too_many_arguments)]
-unsafe fn asphere_kind_narrow<
-    const REFRACT: bool,
-    const PER_RAY: bool,
-    const THIRD: bool,
-    const ODD: bool,
-    const TERMS: usize,
->(
-    s: &Step,
-    a: &AsphereLanes<F64x4>,
-    src: &Rays4,
-    dst: &mut Rays4,
-    n: usize,
-    ix: &ChunkIndices,
-    bits: &mut Bits,
-    nw: &mut NewtonScratch,
-) {
-    let sl = StepLanes::<F64x4>::of(s);
-    asphere_chunk::<F64x4, REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, &sl, a, src, dst, n, ix, bits, nw)
 }
 
 /// [`asphere_chunk`] for the surface `a`'s kind of step, `W::N` rays a

@@ -774,16 +774,32 @@ pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3], r2:
 /// left the iteration or [`MAX_NEWTON_STEPS`] were taken.
 #[inline(always)]
 pub(crate) fn meet_asphere<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
-    match (a.third_order, a.odd, a.terms) {
-        (false, _, _) => meet::<L, false, false, 0>(a, p, d),
-        (true, false, 4) => meet::<L, true, false, 4>(a, p, d),
-        (true, false, 5) => meet::<L, true, false, 5>(a, p, d),
-        (true, false, 6) => meet::<L, true, false, 6>(a, p, d),
-        (true, false, _) => meet::<L, true, false, 8>(a, p, d),
-        (true, true, 5) => meet::<L, true, true, 5>(a, p, d),
-        (true, true, _) => meet::<L, true, true, 8>(a, p, d),
+    macro_rules! go {
+        ($third:literal, $odd:literal, $terms:literal) => {
+            meet::<L, $third, $odd, $terms>(a, p, d)
+        };
     }
+    by_asphere_kind!(a, go)
 }
+
+/// `$go!(THIRD, ODD, TERMS)` with the kernel's constants for the asphere
+/// `$a` (an [`AsphereLanes`]): the one list of the kinds of asphere that
+/// get code of their own, for the one-ray path ([`meet_asphere`]) and the
+/// batch (`batch.rs`), so that both take the same steps.
+macro_rules! by_asphere_kind {
+    ($a:expr, $go:ident) => {
+        match ($a.third_order(), $a.odd(), $a.chain_terms()) {
+            (false, _, _) => $go!(false, false, 0),
+            (true, false, 4) => $go!(true, false, 4),
+            (true, false, 5) => $go!(true, false, 5),
+            (true, false, 6) => $go!(true, false, 6),
+            (true, false, _) => $go!(true, false, 8),
+            (true, true, 5) => $go!(true, true, 5),
+            (true, true, _) => $go!(true, true, 8),
+        }
+    };
+}
+pub(crate) use by_asphere_kind;
 
 /// [`meet_asphere`] for a surface whose [`AsphereLanes::third_order`],
 /// [`AsphereLanes::odd`] and [`AsphereLanes::chain_terms`] are `THIRD`,

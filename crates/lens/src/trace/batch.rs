@@ -35,9 +35,9 @@ use crate::simd::avx512::{F64x8, M64x8};
 use crate::simd::lanes::Real;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
-    asphere_carry, conic_root, conic_root_of, hit_with_normal, newton_eval, newton_finish, newton_hit, newton_running,
-    newton_start_from, ring_conic, ring_or_start, zones_of, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic,
-    MAX_NEWTON_STEPS,
+    asphere_carry, by_asphere_kind, conic_root, conic_root_of, hit_with_normal, newton_eval, newton_finish, newton_hit,
+    newton_running, newton_start_from, ring_conic, ring_or_start, zones_of, AsphereLanes, ConicRoot, Newton,
+    NewtonEval, StartConic, MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -1015,18 +1015,13 @@ unsafe fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
     b: &mut Bits,
     nw: &mut NewtonScratch,
 ) {
-    // SAFETY: the caller's
-    unsafe {
-        match (a.third_order(), a.odd(), a.chain_terms()) {
-            (false, _, _) => W::asphere_kind::<REFRACT, PER_RAY, false, false, 0>(s, a, src, dst, n, ix, b, nw),
-            (true, false, 4) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 4>(s, a, src, dst, n, ix, b, nw),
-            (true, false, 5) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 5>(s, a, src, dst, n, ix, b, nw),
-            (true, false, 6) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 6>(s, a, src, dst, n, ix, b, nw),
-            (true, false, _) => W::asphere_kind::<REFRACT, PER_RAY, true, false, 8>(s, a, src, dst, n, ix, b, nw),
-            (true, true, 5) => W::asphere_kind::<REFRACT, PER_RAY, true, true, 5>(s, a, src, dst, n, ix, b, nw),
-            (true, true, _) => W::asphere_kind::<REFRACT, PER_RAY, true, true, 8>(s, a, src, dst, n, ix, b, nw),
-        }
+    macro_rules! go {
+        ($third:literal, $odd:literal, $terms:literal) => {
+            // SAFETY: the caller's
+            unsafe { W::asphere_kind::<REFRACT, PER_RAY, $third, $odd, $terms>(s, a, src, dst, n, ix, b, nw) }
+        };
     }
+    by_asphere_kind!(a, go)
 }
 
 /// The start conic of vector `j` into the first four of its six root

@@ -390,10 +390,9 @@ pub(crate) struct AsphereHit<L: Real> {
 
 /// Newton's iteration for rays meeting an asphere, per lane, between its
 /// steps: what [`newton_start`] sets up, [`newton_step`] advances and
-/// [`newton_hit`] turns into the hit. Flags are numbers, negative for true,
-/// so that the batch can keep them in its buffers.
+/// [`newton_hit`] turns into the hit.
 #[derive(Clone, Copy)]
-pub(crate) struct Newton<L> {
+pub(crate) struct Newton<L: Real> {
     /// The ray's start, mm (the surface's frame).
     pub p: [L; 3],
     /// Distance along the ray from its start, mm.
@@ -403,9 +402,9 @@ pub(crate) struct Newton<L> {
     pub q: L,
     pub m: L,
     /// The lane's step was at most the tolerance: it left the iteration.
-    pub converged: L,
+    pub converged: L::Mask,
     /// The lane left the surface's domain: it left the iteration.
-    pub missed: L,
+    pub missed: L::Mask,
 }
 
 /// The start of the intersection of the ray `p + t d` (unit `d`, the
@@ -605,9 +604,9 @@ pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 
         // the normal needs m there (and Q = 0)
         let met = !disc.is_neg() & u.is_finite();
         let m = (-k1c).fma(u.fma(d[2], pz), one);
-        return Newton { p, u, q: L::splat(0.0), m, converged: L::from_mask(met), missed: L::from_mask(!met) };
+        return Newton { p, u, q: L::splat(0.0), m, converged: met, missed: !met };
     }
-    Newton { p, u, q: L::splat(0.0), m: one, converged: L::splat(1.0), missed: L::from_mask(!u.is_finite()) }
+    Newton { p, u, q: L::splat(0.0), m: one, converged: !L::Mask::all_true(), missed: !u.is_finite() }
 }
 
 /// One step of Newton's iteration for the lanes still in it; the others
@@ -711,7 +710,7 @@ pub(crate) fn newton_finish<L: Real, const THIRD: bool>(st: &mut Newton<L>, ev: 
         (du, du.abs().le(tol))
     };
     let bad = domain.is_neg() | !du.is_finite();
-    let active = !(st.converged.is_neg() | st.missed.is_neg());
+    let active = !(st.converged | st.missed);
     let now = active & !bad & done_now;
     let step = active & !bad;
     st.u = L::select(step, st.u - du, st.u);
@@ -721,14 +720,14 @@ pub(crate) fn newton_finish<L: Real, const THIRD: bool>(st: &mut Newton<L>, ev: 
         st.q = L::select(step, q, st.q);
         st.m = L::select(step, m, st.m);
     }
-    st.missed = L::from_mask(st.missed.is_neg() | (active & bad));
-    st.converged = L::from_mask(st.converged.is_neg() | now);
+    st.missed = st.missed | (active & bad);
+    st.converged = st.converged | now;
 }
 
 /// Whether any lane is still iterating.
 #[inline(always)]
 pub(crate) fn newton_running<L: Real>(st: &Newton<L>) -> bool {
-    (!(st.converged.is_neg() | st.missed.is_neg())).any()
+    (!(st.converged | st.missed)).any()
 }
 
 /// The hit after the iteration, with the normal there.
@@ -765,8 +764,8 @@ pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3], r2:
     let y = st.u.fma(d[1], st.p[1]);
     let z = st.u.fma(d[2], st.p[2]);
     let near = !n[2].le(L::splat(0.0));
-    let missed = st.missed.is_neg();
-    AsphereHit { t: st.u, x, y, z, r2, n, ok: !missed & near, converged: st.converged.is_neg() & !missed }
+    let missed = st.missed;
+    AsphereHit { t: st.u, x, y, z, r2, n, ok: !missed & near, converged: st.converged & !missed }
 }
 
 /// Intersects the ray `p + t d` (unit `d`, the asphere's frame) with the

@@ -1088,10 +1088,10 @@ impl NewtonScratch {
         let to = &mut self.state;
         n.u.put(to, 5 * j);
         if W::N == 8 {
-            self.flags[j] = [flag_bits(n.converged), flag_bits(n.missed)];
+            self.flags[j] = [flag_bits::<W>(n.converged), flag_bits::<W>(n.missed)];
         } else {
-            n.converged.put(to, 5 * j + 1);
-            n.missed.put(to, 5 * j + 2);
+            W::from_mask(n.converged).put(to, 5 * j + 1);
+            W::from_mask(n.missed).put(to, 5 * j + 2);
         }
         if !THIRD {
             n.q.put(to, 5 * j + 3);
@@ -1106,9 +1106,9 @@ impl NewtonScratch {
         let (q, m) = if THIRD { (W::splat(0.0), W::splat(1.0)) } else { (get(3), get(4)) };
         let (converged, missed) = if W::N == 8 {
             let [converged, missed] = self.flags[j];
-            (W::from_mask(W::mask_of_bits(converged)), W::from_mask(W::mask_of_bits(missed)))
+            (W::mask_of_bits(converged), W::mask_of_bits(missed))
         } else {
-            (get(1), get(2))
+            (get(1).is_neg(), get(2).is_neg())
         };
         Newton { p, u: get(0), q, m, converged, missed }
     }
@@ -1136,13 +1136,13 @@ impl NewtonScratch {
     }
 }
 
-/// A flag of [`Newton`] (negative where true) as a byte, a bit a lane (at
-/// most eight). A function, not a closure: one not inlined runs outside the
-/// batch's target features.
+/// A flag of [`Newton`] as a byte, a bit a lane (at most eight). A
+/// function, not a closure: one not inlined runs outside the batch's target
+/// features.
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn flag_bits<W: Wide>(flag: W) -> u8 {
-    W::mask_bits(flag.is_neg()) as u8
+fn flag_bits<W: Wide>(flag: W::Mask) -> u8 {
+    W::mask_bits(flag) as u8
 }
 
 /// An asphere step over the first `n` vectors of a chunk (`W::N` rays a

@@ -783,8 +783,15 @@ pub(super) trait Wide: Real {
     fn mask_bits(m: Self::Mask) -> u64;
     /// The mask of [`Self::mask_bits`]'s bits.
     fn mask_of_bits(bits: u8) -> Self::Mask;
-    /// [`asphere_chunk`] at this width for one kind of asphere
-    /// ([`asphere_kind_wide`], [`asphere_kind_narrow`]).
+    /// [`asphere_chunk`] for one kind of asphere at this width, over the
+    /// chunk's first `n` vectors, compiled with the width's target
+    /// features: a function of its own for each kind (`THIRD`, `ODD`,
+    /// `TERMS`) and width, so that one kind's code and its layout do not
+    /// move with another's (all kinds in one function, adding a kind moved
+    /// the others' steps by 0.1-0.2 ns). Its arguments one by one, not in a
+    /// struct: references read from a struct are not known apart, and the
+    /// kernel then reloads what it keeps in registers (measured: 0.4 ns a
+    /// step slower).
     ///
     /// # Safety
     ///
@@ -810,46 +817,10 @@ pub(super) trait Wide: Real {
 }
 
 /// [`Wide`] for a lane type `$t` of `$n` lanes with `load`, `store` and a
-/// mask type `$mask` with `bits`, and its kernel for one kind of asphere,
-/// `$kind`, compiled with `$features`.
+/// mask type `$mask` with `bits`, its kernel for one kind of asphere
+/// compiled with `$features`.
 macro_rules! wide {
-    ($t:ident, $mask:ident, $n:literal, $kind:ident, $features:literal) => {
-        /// [`asphere_chunk`] for one kind of asphere at this width, over
-        /// the chunk's first `n` vectors: a function of its own for each
-        /// kind (`THIRD`, `ODD`, `TERMS`) and width, so that one kind's code
-        /// and its layout do not move with another's (all kinds in one
-        /// function, adding a kind moved the others' steps by 0.1-0.2 ns).
-        /// Its arguments one by one, not in a struct: references read from
-        /// a struct are not known apart, and the kernel then reloads what
-        /// it keeps in registers (measured: 0.4 ns a step slower).
-        ///
-        /// # Safety
-        ///
-        #[doc = concat!("The CPU must have these features: ", $features, ".")]
-        #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = $features)]
-        #[inline(never)]
-        #[allow(clippy::too_many_arguments)]
-        unsafe fn $kind<
-            const REFRACT: bool,
-            const PER_RAY: bool,
-            const THIRD: bool,
-            const ODD: bool,
-            const TERMS: usize,
-        >(
-            s: &Step,
-            a: &AsphereLanes<$t>,
-            src: &Rays4,
-            dst: &mut Rays4,
-            n: usize,
-            ix: &ChunkIndices,
-            bits: &mut Bits,
-            nw: &mut NewtonScratch,
-        ) {
-            let sl = StepLanes::<$t>::of(s);
-            asphere_chunk::<$t, REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, &sl, a, src, dst, n, ix, bits, nw)
-        }
-
+    ($t:ident, $mask:ident, $n:literal, $features:literal) => {
         #[cfg(target_arch = "x86_64")]
         impl Wide for $t {
             const N: usize = $n;
@@ -869,7 +840,8 @@ macro_rules! wide {
             fn mask_of_bits(bits: u8) -> $mask {
                 $mask::of_bits(u32::from(bits))
             }
-            #[inline(always)]
+            #[target_feature(enable = $features)]
+            #[inline(never)]
             unsafe fn asphere_kind<
                 const REFRACT: bool,
                 const PER_RAY: bool,
@@ -886,15 +858,15 @@ macro_rules! wide {
                 bits: &mut Bits,
                 nw: &mut NewtonScratch,
             ) {
-                // SAFETY: the caller's
-                unsafe { $kind::<REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, a, src, dst, n, ix, bits, nw) }
+                let sl = StepLanes::<$t>::of(s);
+                asphere_chunk::<$t, REFRACT, PER_RAY, THIRD, ODD, TERMS>(s, &sl, a, src, dst, n, ix, bits, nw)
             }
         }
     };
 }
 
-wide!(F64x4, M64x4, 4, asphere_kind_narrow, "avx2,fma");
-wide!(F64x8, M64x8, 8, asphere_kind_wide, "avx2,fma,avx512f,avx512vl");
+wide!(F64x4, M64x4, 4, "avx2,fma");
+wide!(F64x8, M64x8, 8, "avx2,fma,avx512f,avx512vl");
 
 /// Vector `j` of `rays`: points, directions, path lengths.
 #[cfg(target_arch = "x86_64")]

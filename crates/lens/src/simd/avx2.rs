@@ -63,17 +63,6 @@ impl M64x4 {
         // SAFETY: AVX is available (module invariant).
         unsafe { _mm256_movemask_pd(self.0) as u32 }
     }
-
-    /// The mask whose lane j is bit j of `bits` ([`Self::bits`] back).
-    #[inline(always)]
-    pub(crate) fn of_bits(bits: u32) -> Self {
-        // SAFETY: AVX2 is available (module invariant).
-        unsafe {
-            let lane = _mm256_setr_epi64x(1, 2, 4, 8);
-            let on = _mm256_and_si256(_mm256_set1_epi64x(i64::from(bits)), lane);
-            M64x4(_mm256_castsi256_pd(_mm256_cmpeq_epi64(on, lane)))
-        }
-    }
 }
 
 macro_rules! binary {

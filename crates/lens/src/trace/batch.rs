@@ -772,7 +772,7 @@ fn step_asphere<T, const SHAPE: u8>(list: &[Option<T>], k: usize) -> Option<&T> 
 /// written to a chunk's arrays (each `CHUNK` numbers, vector `j` at lanes
 /// `j N .. (j + 1) N`).
 #[cfg(target_arch = "x86_64")]
-pub(super) trait Wide: Real {
+pub(super) trait Wide: Real + NewtonFlags {
     /// Lanes per vector.
     const N: usize;
     /// Vector `j` of `s`.
@@ -781,8 +781,6 @@ pub(super) trait Wide: Real {
     fn put(self, s: &mut [f64], j: usize);
     /// One bit per lane of `m`, lane 0 the lowest.
     fn mask_bits(m: Self::Mask) -> u64;
-    /// The mask of [`Self::mask_bits`]'s bits.
-    fn mask_of_bits(bits: u8) -> Self::Mask;
     /// [`asphere_chunk`] for one kind of asphere at this width, over the
     /// chunk's first `n` vectors, compiled with the width's target
     /// features: a function of its own for each kind (`THIRD`, `ODD`,
@@ -835,10 +833,6 @@ macro_rules! wide {
             #[inline(always)]
             fn mask_bits(m: $mask) -> u64 {
                 u64::from(m.bits())
-            }
-            #[inline(always)]
-            fn mask_of_bits(bits: u8) -> $mask {
-                $mask::of_bits(u32::from(bits))
             }
             #[target_feature(enable = $features)]
             #[inline(never)]
@@ -1012,10 +1006,10 @@ fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, j: usize, sc: StartConic<W>)
 /// passes), a pass's evaluation (until its division) and the hit's normal
 /// (until the refraction). Only what the surface's kind of step reads is
 /// stored: a third-order step's hit evaluates its own normal, so neither
-/// its state nor its evaluation keeps `Q` and `m`; at eight lanes the
-/// iteration's flags are kept as bits. Each array of numbers holds, for each vector in turn,
-/// its numbers one vector after another ([`get4`]), whatever the vector's
-/// width.
+/// its state nor its evaluation keeps `Q` and `m`; the iteration's flags
+/// as each width reads them fastest ([`NewtonFlags`]). Each array of
+/// numbers holds, for each vector in turn, its numbers one vector after
+/// another ([`get4`]), whatever the vector's width.
 #[cfg(target_arch = "x86_64")]
 #[derive(Clone, Copy)]
 pub(super) struct NewtonScratch {
@@ -1026,9 +1020,8 @@ pub(super) struct NewtonScratch {
     /// `q` and `m`.
     state: [f64; CHUNK * 5],
     /// Eight lanes: the iteration's flags, converged and missed, a bit a
-    /// lane (mask bits, not numbers: fewer instructions a pass; four lanes
-    /// have no mask registers, and a byte costs them a broadcast, an `and`
-    /// and a compare to read: they keep numbers).
+    /// lane (mask bits, not numbers: fewer instructions a pass;
+    /// [`NewtonFlags`]).
     flags: [[u8; 2]; CHUNK],
     eval: [f64; CHUNK * 5],
     normal: [f64; CHUNK * 4],
@@ -1057,17 +1050,11 @@ impl NewtonScratch {
 
     #[inline(always)]
     fn put_state<W: Wide, const THIRD: bool>(&mut self, j: usize, n: &Newton<W>) {
-        let to = &mut self.state;
-        n.u.put(to, 5 * j);
-        if W::N == 8 {
-            self.flags[j] = [flag_bits::<W>(n.converged), flag_bits::<W>(n.missed)];
-        } else {
-            W::from_mask(n.converged).put(to, 5 * j + 1);
-            W::from_mask(n.missed).put(to, 5 * j + 2);
-        }
+        n.u.put(&mut self.state, 5 * j);
+        W::put_flags(self, j, n.converged, n.missed);
         if !THIRD {
-            n.q.put(to, 5 * j + 3);
-            n.m.put(to, 5 * j + 4);
+            n.q.put(&mut self.state, 5 * j + 3);
+            n.m.put(&mut self.state, 5 * j + 4);
         }
     }
 
@@ -1076,12 +1063,7 @@ impl NewtonScratch {
     fn state<W: Wide, const THIRD: bool>(&self, j: usize, p: [W; 3]) -> Newton<W> {
         let get = |k: usize| W::at(&self.state, 5 * j + k);
         let (q, m) = if THIRD { (W::splat(0.0), W::splat(1.0)) } else { (get(3), get(4)) };
-        let (converged, missed) = if W::N == 8 {
-            let [converged, missed] = self.flags[j];
-            (W::mask_of_bits(converged), W::mask_of_bits(missed))
-        } else {
-            (get(1).is_neg(), get(2).is_neg())
-        };
+        let (converged, missed) = W::flags(self, j);
         Newton { p, u: get(0), q, m, converged, missed }
     }
 
@@ -1108,13 +1090,43 @@ impl NewtonScratch {
     }
 }
 
-/// A flag of [`Newton`] as a byte, a bit a lane (at most eight). A
-/// function, not a closure: one not inlined runs outside the batch's target
-/// features.
+/// Where a vector's flags of [`Newton`] (converged, missed) wait between
+/// the batch's loops, as each width reads them fastest: eight lanes as
+/// mask bits, a byte each ([`NewtonScratch::flags`]); four, which have no
+/// mask registers (a byte would cost them a broadcast, an `and` and a
+/// compare to read), as numbers in the state's slots 1 and 2.
 #[cfg(target_arch = "x86_64")]
-#[inline(always)]
-fn flag_bits<W: Wide>(flag: W::Mask) -> u8 {
-    W::mask_bits(flag) as u8
+pub(super) trait NewtonFlags: Real {
+    /// Stores vector `j`'s flags.
+    fn put_flags(nw: &mut NewtonScratch, j: usize, converged: Self::Mask, missed: Self::Mask);
+    /// Vector `j`'s flags, converged and missed.
+    fn flags(nw: &NewtonScratch, j: usize) -> (Self::Mask, Self::Mask);
+}
+
+#[cfg(target_arch = "x86_64")]
+impl NewtonFlags for F64x8 {
+    #[inline(always)]
+    fn put_flags(nw: &mut NewtonScratch, j: usize, converged: M64x8, missed: M64x8) {
+        nw.flags[j] = [converged.bits() as u8, missed.bits() as u8];
+    }
+    #[inline(always)]
+    fn flags(nw: &NewtonScratch, j: usize) -> (M64x8, M64x8) {
+        let [converged, missed] = nw.flags[j];
+        (M64x8::of_bits(u32::from(converged)), M64x8::of_bits(u32::from(missed)))
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+impl NewtonFlags for F64x4 {
+    #[inline(always)]
+    fn put_flags(nw: &mut NewtonScratch, j: usize, converged: M64x4, missed: M64x4) {
+        F64x4::from_mask(converged).put(&mut nw.state, 5 * j + 1);
+        F64x4::from_mask(missed).put(&mut nw.state, 5 * j + 2);
+    }
+    #[inline(always)]
+    fn flags(nw: &NewtonScratch, j: usize) -> (M64x4, M64x4) {
+        (F64x4::at(&nw.state, 5 * j + 1).is_neg(), F64x4::at(&nw.state, 5 * j + 2).is_neg())
+    }
 }
 
 /// An asphere step over the first `n` vectors of a chunk (`W::N` rays a

@@ -45,7 +45,8 @@ pub struct Tracer {
 
 /// Each step's asphere in the one-ray path's numbers ([`Tracer::aspheres`]),
 /// from its curvature, terms, clear aperture and rings as they are now:
-/// made again wherever a tracer's steps change.
+/// made again where a tracer's clear apertures change
+/// ([`Tracer::unclipped`]).
 fn one_ray_aspheres(steps: &[Step]) -> Vec<Option<AsphereLanes<f64>>> {
     steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect()
 }
@@ -154,21 +155,27 @@ impl Tracer {
     pub fn to_stop_unclipped(p: &Prescription) -> Tracer {
         let mut t = Tracer::forward(p);
         t.steps.truncate(p.stop_index() + 1);
-        for s in &mut t.steps {
-            s.sd2 = f64::INFINITY;
-        }
-        t.aspheres = one_ray_aspheres(&t.steps);
-        t
+        let all = 0..t.steps.len();
+        t.unclipped(all)
     }
 
     /// Object space to the film with the stop's clear aperture left open
     /// (the other surfaces clip as usual): what finds the aperture the
     /// other surfaces allow.
     pub fn forward_without_stop(p: &Prescription) -> Tracer {
-        let mut t = Tracer::forward(p);
-        t.steps[p.stop_index()].sd2 = f64::INFINITY;
-        t.aspheres = one_ray_aspheres(&t.steps);
-        t
+        let stop = p.stop_index();
+        Tracer::forward(p).unclipped(stop..stop + 1)
+    }
+
+    /// This tracer with the steps `range` clipping nothing, their aspheres
+    /// for the one-ray path made again (their start conics depend on the
+    /// clear aperture): the one place a tracer's clear apertures change.
+    fn unclipped(mut self, range: std::ops::Range<usize>) -> Tracer {
+        for s in &mut self.steps[range] {
+            s.sd2 = f64::INFINITY;
+        }
+        self.aspheres = one_ray_aspheres(&self.steps);
+        self
     }
 
     /// Traces one ray (global frame) and classifies how it ended.

@@ -7,14 +7,15 @@
 //! [`Tracer::trace`]: all run the same per-surface kernel, written once
 //! over the lane type of `lanes.rs`.
 //!
-//! Longer than most files (about 1100 lines) on purpose: the batch's data
-//! (`RayBatch`), its chunk buffers, the two AVX2 drivers (structure of
-//! arrays, slice of rays; the first also with each ray's own indices, for
-//! `spectral.rs`), the sphere's and the aspheric step's loops over a chunk
-//! (`sphere_chunk`, `asphere_chunk`: the latter a lock-step driver whose
-//! per-lane arithmetic is `asphere.rs`'s) at either width share the chunk's
-//! layout and its invariants (idle lanes, statuses, the frame of each
-//! buffer), which read best in one place.
+//! Longer than most files (about 1350 lines, 70 of them tests) on purpose:
+//! the batch's data (`RayBatch`), its chunk buffers, the two AVX2 drivers
+//! (structure of arrays, slice of rays; the first also with each ray's own
+//! indices, for `spectral.rs`), the sphere's and the aspheric step's loops
+//! over a chunk (`sphere_chunk`, `asphere_chunk`: the latter a lock-step
+//! driver whose per-lane arithmetic is `asphere.rs`'s, one function per
+//! kind of asphere and width) at either width share the chunk's layout and
+//! its invariants (idle lanes, statuses, the frame of each buffer), which
+//! read best in one place.
 
 use super::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]

@@ -6,6 +6,7 @@
 //! only after `trace::step::simd_fma` found both extensions; every
 //! intrinsic below relies on that.
 
+use crate::simd::avx2_f32::F32x8;
 use crate::simd::lanes::{Mask, Real, SIGN};
 use std::arch::x86_64::*;
 use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
@@ -124,6 +125,7 @@ impl Mask for M64x4 {
 
 impl Real for F64x4 {
     type Mask = M64x4;
+    type F32 = F32x8;
 
     #[inline(always)]
     fn splat(v: f64) -> Self {
@@ -179,31 +181,6 @@ impl Real for F64x4 {
     #[inline(always)]
     fn from_mask(m: M64x4) -> Self {
         F64x4(m.0)
-    }
-    #[inline(always)]
-    fn rows(table: &[[f64; 4]], at: Self) -> [Self; 4] {
-        // SAFETY: AVX is available (module invariant); max_pd returns its
-        // second operand (0) where the first is NaN, so each index lies in
-        // 0..table.len() (and the slice indexing checks it again).
-        unsafe {
-            let last = _mm256_set1_pd((table.len() - 1) as f64);
-            let clamped = _mm256_min_pd(_mm256_max_pd(at.0, _mm256_setzero_pd()), last);
-            let i = _mm256_cvttpd_epi32(clamped);
-            let row = |k: i32| _mm256_loadu_pd(table[k as usize].as_ptr());
-            let r0 = row(_mm_cvtsi128_si32(i));
-            let r1 = row(_mm_extract_epi32::<1>(i));
-            let r2 = row(_mm_extract_epi32::<2>(i));
-            let r3 = row(_mm_extract_epi32::<3>(i));
-            // transpose: lane j of result k is row j's number k
-            let (t0, t1) = (_mm256_unpacklo_pd(r0, r1), _mm256_unpackhi_pd(r0, r1));
-            let (t2, t3) = (_mm256_unpacklo_pd(r2, r3), _mm256_unpackhi_pd(r2, r3));
-            [
-                F64x4(_mm256_permute2f128_pd::<0x20>(t0, t2)),
-                F64x4(_mm256_permute2f128_pd::<0x20>(t1, t3)),
-                F64x4(_mm256_permute2f128_pd::<0x31>(t0, t2)),
-                F64x4(_mm256_permute2f128_pd::<0x31>(t1, t3)),
-            ]
-        }
     }
     #[inline(always)]
     fn is_finite(self) -> M64x4 {

@@ -13,6 +13,9 @@ use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 /// Bit pattern of the sign of an f64.
 pub(crate) const SIGN: u64 = 1 << 63;
 
+/// Bit pattern of the sign of an f32.
+pub(crate) const SIGN32: u32 = 1 << 31;
+
 /// Numbers for one ray (`f64`) or for several rays at once (one per lane).
 pub(crate) trait Real:
     Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
@@ -47,21 +50,22 @@ pub(crate) trait Real:
     /// A mask held as a number, negative where true (so that
     /// [`Self::is_neg`] reads it back): for a vector the mask's own bits.
     fn from_mask(m: Self::Mask) -> Self;
-    /// Row `i` of `table` in each lane (the row's numbers as the lane's
-    /// values of the four results), `i` the lane's `at` clamped to
-    /// `0..=table.len() - 1` (NaN to 0) and truncated. `table` must not be
-    /// empty.
-    fn rows(table: &[[f64; 4]], at: Self) -> [Self; 4];
-    /// The first three numbers of row `i` of a table of 32 rows, as
-    /// [`Self::rows`] reads them from `rows`; `cols` is the same table by
-    /// columns (`cols[k][i] = rows[i][k]`), which the eight-lane type reads
-    /// with permutes instead of a load per lane.
-    #[inline(always)]
-    fn rows32(rows: &[[f64; 4]; 32], cols: &[[f64; 32]; 3], at: Self) -> [Self; 3] {
-        let _ = cols;
-        let [a, b, c, _] = Self::rows(rows, at);
-        [a, b, c]
-    }
+    /// The f32 lanes an asphere's start is computed in (`trace/asphere.rs`):
+    /// `f32` for one ray, and for a vector of f64 lanes the f32 vector of
+    /// the same width in bytes, which holds two of its vectors' lanes (the
+    /// batch narrows two vectors into one); `Self` for the f32 types.
+    type F32: Real + RingRows;
+}
+
+/// The f32 lanes that read a ring's conic from a table of 32 rows
+/// (`trace/zones.rs`).
+pub(crate) trait RingRows: Real {
+    /// The first three numbers of row `i` of a table of 32 rows in each
+    /// lane, `i` the lane's `at` clamped to `0..=31` (NaN to 0) and
+    /// truncated; `cols` is the same table by columns (`cols[k][i] =
+    /// rows[i][k]`), which the vector types read with permutes instead of a
+    /// load per lane.
+    fn rows32(rows: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: Self) -> [Self; 3];
 }
 
 /// Truth values, one per lane.
@@ -142,9 +146,77 @@ impl Real for f64 {
             1.0
         }
     }
+    type F32 = f32;
+}
+
+impl Real for f32 {
+    type Mask = bool;
+    type F32 = f32;
+
     #[inline(always)]
-    fn rows(table: &[[f64; 4]], at: Self) -> [Self; 4] {
-        // f64::max ignores a NaN; `as` truncates
-        table[at.max(0.0).min((table.len() - 1) as f64) as usize]
+    fn splat(v: f64) -> Self {
+        // rounded to nearest, as the vector types' conversions
+        v as f32
+    }
+    #[inline(always)]
+    fn fma(self, a: Self, b: Self) -> Self {
+        f32::mul_add(self, a, b)
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        f32::sqrt(self)
+    }
+    #[inline(always)]
+    fn sign_bit(self) -> Self {
+        f32::from_bits(self.to_bits() & SIGN32)
+    }
+    #[inline(always)]
+    fn xor(self, o: Self) -> Self {
+        f32::from_bits(self.to_bits() ^ o.to_bits())
+    }
+    #[inline(always)]
+    fn or(self, o: Self) -> Self {
+        f32::from_bits(self.to_bits() | o.to_bits())
+    }
+    #[inline(always)]
+    fn is_finite(self) -> bool {
+        self.abs() < f32::INFINITY
+    }
+    #[inline(always)]
+    fn is_neg(self) -> bool {
+        self.is_sign_negative()
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        f32::abs(self)
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> bool {
+        self <= o
+    }
+    #[inline(always)]
+    fn select(m: bool, a: Self, b: Self) -> Self {
+        if m {
+            a
+        } else {
+            b
+        }
+    }
+    #[inline(always)]
+    fn from_mask(m: bool) -> Self {
+        if m {
+            -1.0
+        } else {
+            1.0
+        }
+    }
+}
+
+impl RingRows for f32 {
+    #[inline(always)]
+    fn rows32(rows: &[[f32; 4]; 32], _: &[[f32; 32]; 3], at: Self) -> [Self; 3] {
+        // `as` truncates, and takes a NaN to 0
+        let [a, b, c, _] = rows[at.clamp(0.0, 31.0) as usize];
+        [a, b, c]
     }
 }

@@ -13,7 +13,7 @@
 use super::step::{refract_scaled, snell_root_unnormalised, Lane, StepLanes, StepOut, Verdict};
 use super::zones::Zones;
 use crate::model::surface::{Asphere, MAX_ASPHERE_POWER};
-use crate::simd::lanes::{Mask, Real};
+use crate::simd::lanes::{Mask, Real, RingRows};
 
 /// Newton steps at most before a ray is reported as not converged. From
 /// the conic's root a smooth asphere converges quadratically in 2 to 5.
@@ -109,7 +109,7 @@ impl<L: Real> Chain<L> {
 /// the step's longest wait); an even asphere has only B and D and no square
 /// root. Only an r^1 term needs a division by r.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct AsphereLanes<L> {
+pub(crate) struct AsphereLanes<L: Real> {
     /// Base curvature, 1/mm.
     c: L,
     /// `(1 + k) c^2`.
@@ -125,9 +125,10 @@ pub(crate) struct AsphereLanes<L> {
     /// surface.
     start_kc: L,
     start_k1c: L,
-    /// The rings' conics, which start the iteration instead where the
-    /// start conic is far from the surface (`zones.rs`).
-    zones: Option<Zones>,
+    /// What the iteration starts from, in f32 ([`StartLanes`]): all but a
+    /// pure conic's rays start there (a pure conic's root is its
+    /// intersection, made in f64 from the fields above).
+    start: StartLanes<L::F32>,
     /// `B(s) = sum_m a_2m s^(m-1)`, `C(s) = sum_m a_(2m+1) s^m`.
     b: Chain<L>,
     cc: Chain<L>,
@@ -255,7 +256,12 @@ impl<L: Real> AsphereLanes<L> {
             half_c: L::splat(0.5 * c),
             start_kc: L::splat((start_k1 - 1.0) * c),
             start_k1c: L::splat(start_k1 * c),
-            zones,
+            start: StartLanes {
+                c: L::F32::splat(c),
+                kc: L::F32::splat((start_k1 - 1.0) * c),
+                k1c: L::F32::splat(start_k1 * c),
+                zones,
+            },
             b: Chain::of(&b),
             cc: Chain::of(&cc),
             d: Chain::of(&d),
@@ -289,6 +295,12 @@ impl<L: Real> AsphereLanes<L> {
     #[inline(always)]
     pub(crate) fn odd(&self) -> bool {
         self.odd
+    }
+
+    /// What the iteration starts from, in f32 lanes ([`StartLanes`]).
+    #[inline(always)]
+    pub(crate) fn start(&self) -> &StartLanes<L::F32> {
+        &self.start
     }
 
     /// Whether Newton's iteration has anything to do: not for a pure conic,
@@ -407,27 +419,49 @@ pub(crate) struct Newton<L: Real> {
     pub missed: L::Mask,
 }
 
-/// The start of the intersection of the ray `p + t d` (unit `d`, the
-/// asphere's frame) with the asphere `a`: a root of the conic's quadratic
-/// `A t^2 + 2 B t + C = 0`, with `A = c (1 + k dz^2)`,
-/// `B = c (p . d) + k c pz dz - dz` and `C = c |p|^2 + k c pz^2 - 2 pz`, on
-/// the conic's sheet through the vertex (`1 - (1 + k) c z > 0`). From the
-/// surface's own conic the nearer root, rationalised (`-C / (B + s R)`, `R`
-/// the discriminant's square root, s the sign of B), where it lies on that
-/// sheet, else the other (a strong hyperboloid's second sheet lies close in
-/// front of the vertex); from a ray's ring's conic (`zones.rs`) the root
-/// where the ray crosses it in its direction of travel ([`front_parts`]), or
-/// the own conic's where that is off the sheet. Where the line misses the
-/// conic, `-C / B` (where it would touch it).
+/// What an asphere's iteration starts from, in the f32 lanes `S`
+/// (`f32` for one ray, a vector holding two of the batch's vectors'
+/// lanes): the surface's start conic (`c`, `k c`, `(1 + k) c`) and its
+/// rings (`zones.rs`).
+///
+/// The start decides only how many steps a ray takes, never where it ends,
+/// and f32 is near enough for it: its rounding moves the start by about
+/// 1e-7 of the ray's distance to the surface (under 1e-6 mm in a camera
+/// lens), against the 1e-5 to 1e-4 mm by which the conics themselves miss
+/// the surface, while the start's arithmetic then fills twice the lanes of
+/// a register (docs/performance.md). Every path computes it with the same
+/// f32 operations (`lanes.rs`), so the paths still agree bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct StartLanes<S> {
+    c: S,
+    kc: S,
+    k1c: S,
+    /// The rings' conics, which start the iteration instead where the
+    /// start conic is far from the surface.
+    zones: Option<Zones>,
+}
+
+/// The start of Newton's iteration for one ray `p + t d` (unit `d`, the
+/// asphere's frame) meeting the asphere `a`: for a pure conic its root,
+/// which is the intersection ([`conic_only_root`], [`conic_only_start`]);
+/// otherwise the ray narrowed to f32 and its start found there
+/// ([`start_root`], [`start_u`]), widened back. The batch does the same
+/// for two vectors at a time.
 #[inline(always)]
-pub(crate) fn newton_start<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> Newton<L> {
-    newton_start_from(a, p, d, &conic_root(a, p, d))
+pub(crate) fn newton_start(a: &AsphereLanes<f64>, p: [f64; 3], d: [f64; 3]) -> Newton<f64> {
+    if a.conic_only {
+        return conic_only_start(p, d, &conic_only_root(a, p, d));
+    }
+    let (p32, d32) = (p.map(|v| v as f32), d.map(|v| v as f32));
+    let u = start_u(&a.start, p32, d32, &start_root(&a.start, p32, d32));
+    newton_start_at(p, f64::from(u))
 }
 
 /// The conic's quadratic `A t^2 + 2 B t + C = 0` for the ray `p + t d`,
-/// with the square root of its discriminant: the part of [`newton_start`]
-/// up to its square root (the batch computes it for a chunk's vectors
-/// first, so that their square roots and divisions overlap).
+/// `A = c (1 + k dz^2)`, `B = c (p . d) + k c pz dz - dz` and `C = c |p|^2 +
+/// k c pz^2 - 2 pz`, with the square root of its discriminant: the part of
+/// the start up to its square root (the batch computes it for a chunk's
+/// vectors first, so that their square roots and divisions overlap).
 #[derive(Clone, Copy)]
 pub(crate) struct ConicRoot<L> {
     /// The conic's `(1 + k) c`, and `pz` from its vertex.
@@ -445,31 +479,59 @@ pub(crate) struct ConicRoot<L> {
     pub disc: L,
 }
 
-/// [`ConicRoot`] for the ray `p + t d`.
+/// A pure conic's quadratic for the ray `p + t d` (in f64: its root is the
+/// intersection).
 #[inline(always)]
-pub(crate) fn conic_root<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
-    ring_or_start(a, conic_root_of(&start_conic(a, p, d), p, d, a.zones.is_some()), p, d)
+pub(crate) fn conic_only_root<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
+    let own = StartConic { c: a.c, kc: a.start_kc, k1c: a.start_k1c, pz: p[2] };
+    conic_root_of(&own, p, d, false)
+}
+
+/// A pure conic's intersection with the ray `p + t d` from its quadratic
+/// `q` ([`conic_only_root`]): the nearer root on the vertex sheet
+/// ([`nearer_or_other`]), done unless the line misses; the normal needs
+/// `m` there (and `Q` = 0).
+#[inline(always)]
+pub(crate) fn conic_only_start<L: Real>(p: [L; 3], d: [L; 3], q: &ConicRoot<L>) -> Newton<L> {
+    let u = nearer_or_other(q, d);
+    let met = !q.disc.is_neg() & u.is_finite();
+    let m = (-q.k1c).fma(u.fma(d[2], q.pz), L::splat(1.0));
+    Newton { p, u, q: L::splat(0.0), m, converged: met, missed: !met }
+}
+
+/// Newton's iteration for the ray from `p`, starting `u` along it: still
+/// iterating, missed where `u` is not finite.
+#[inline(always)]
+pub(crate) fn newton_start_at<L: Real>(p: [L; 3], u: L) -> Newton<L> {
+    Newton { p, u, q: L::splat(0.0), m: L::splat(1.0), converged: !L::Mask::all_true(), missed: !u.is_finite() }
+}
+
+/// [`ConicRoot`] of the conic the ray `p + t d` starts from
+/// ([`start_conic`]), in f32 lanes.
+#[inline(always)]
+pub(crate) fn start_root<S: RingRows>(st: &StartLanes<S>, p: [S; 3], d: [S; 3]) -> ConicRoot<S> {
+    ring_or_start(st, conic_root_of(&start_conic(st, p, d), p, d, st.zones.is_some()), p, d)
 }
 
 /// `ring` (the root of a ray's ring's conic), but the start conic's root
 /// for the lanes whose line misses their ring's conic: a rare ray, for
 /// which the surface's own conic is the surer start.
 #[inline(always)]
-pub(crate) fn ring_or_start<L: Real>(a: &AsphereLanes<L>, ring: ConicRoot<L>, p: [L; 3], d: [L; 3]) -> ConicRoot<L> {
+pub(crate) fn ring_or_start<S: Real>(st: &StartLanes<S>, ring: ConicRoot<S>, p: [S; 3], d: [S; 3]) -> ConicRoot<S> {
     let missed = ring.disc.is_neg();
-    if a.zones.is_none() || !missed.any() {
+    if st.zones.is_none() || !missed.any() {
         return ring;
     }
-    let own = conic_root_of(&own_start(a, p[2]), p, d, false);
+    let own = conic_root_of(&own_start(st, p[2]), p, d, false);
     // selects written out: a closure called six times may not be inlined
     // into the batch's AVX2 code (on_sheet's note)
     ConicRoot {
-        k1c: L::select(missed, own.k1c, ring.k1c),
-        pz: L::select(missed, own.pz, ring.pz),
-        qa: L::select(missed, own.qa, ring.qa),
-        qc: L::select(missed, own.qc, ring.qc),
-        far: L::select(missed, own.far, ring.far),
-        disc: L::select(missed, own.disc, ring.disc),
+        k1c: S::select(missed, own.k1c, ring.k1c),
+        pz: S::select(missed, own.pz, ring.pz),
+        qa: S::select(missed, own.qa, ring.qa),
+        qc: S::select(missed, own.qc, ring.qc),
+        far: S::select(missed, own.far, ring.far),
+        disc: S::select(missed, own.disc, ring.disc),
     }
 }
 
@@ -485,27 +547,27 @@ pub(crate) struct StartConic<L> {
     pub pz: L,
 }
 
-/// [`StartConic`] for the ray `p + t d` (the part of [`conic_root`] before
+/// [`StartConic`] for the ray `p + t d` (the part of [`start_root`] before
 /// the quadratic: the batch finds a chunk's rings first, so that their
-/// divisions and table reads overlap).
+/// table reads overlap).
 #[inline(always)]
-pub(crate) fn start_conic<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> StartConic<L> {
-    match &a.zones {
-        None => own_start(a, p[2]),
+pub(crate) fn start_conic<S: RingRows>(st: &StartLanes<S>, p: [S; 3], d: [S; 3]) -> StartConic<S> {
+    match &st.zones {
+        None => own_start(st, p[2]),
         Some(z) => ring_conic(z.of_ray(p, d), p[2]),
     }
 }
 
 /// The surface's own start conic, for a ray at `pz` from its vertex.
 #[inline(always)]
-fn own_start<L: Real>(a: &AsphereLanes<L>, pz: L) -> StartConic<L> {
-    StartConic { c: a.c, kc: a.start_kc, k1c: a.start_k1c, pz }
+fn own_start<S: Real>(st: &StartLanes<S>, pz: S) -> StartConic<S> {
+    StartConic { c: st.c, kc: st.kc, k1c: st.k1c, pz }
 }
 
 /// The surface's rings, where it starts its rays from their conics.
 #[inline(always)]
 pub(crate) fn zones_of<L: Real>(a: &AsphereLanes<L>) -> Option<&Zones> {
-    a.zones.as_ref()
+    a.start.zones.as_ref()
 }
 
 /// [`StartConic`] from the conic `(c, k c, z0)` of the ray's ring.
@@ -514,7 +576,7 @@ pub(crate) fn ring_conic<L: Real>((c, kc, z0): (L, L, L), pz: L) -> StartConic<L
     StartConic { c, kc, k1c: kc + c, pz: pz - z0 }
 }
 
-/// [`conic_root`] from the ray's start conic, its start the front root
+/// [`ConicRoot`] from the ray's start conic, its start the front root
 /// where `front` (a ring's conic), else the nearer root.
 #[inline(always)]
 pub(crate) fn conic_root_of<L: Real>(sc: &StartConic<L>, p: [L; 3], d: [L; 3], front: bool) -> ConicRoot<L> {
@@ -537,7 +599,7 @@ pub(crate) fn conic_root_of<L: Real>(sc: &StartConic<L>, p: [L; 3], d: [L; 3], f
 }
 
 /// The front root of the conic's quadratic `A t^2 + 2 B t + C = 0`
-/// ([`conic_root`]), as a numerator and denominator: where the ray of
+/// ([`ConicRoot`]), as a numerator and denominator: where the ray of
 /// direction `d` crosses the conic in its direction of travel, where the
 /// conic's normal `(-c x, -c y, 1 - (1 + k) c z)` has a positive part along
 /// the ray for a ray going towards +z (the sheet through the vertex, met
@@ -578,35 +640,31 @@ fn on_sheet<L: Real>(k1c: L, pz: L, u: L, d: [L; 3]) -> L::Mask {
     !(-k1c).fma(u.fma(d[2], pz), L::splat(1.0)).le(L::splat(0.0))
 }
 
-/// [`newton_start`] from the conic's root `q` ([`conic_root`]).
+/// Where the iteration of the ray `p + t d` starts, from its start conic's
+/// quadratic `q` ([`start_root`]), in f32 lanes: a root of that conic on
+/// its sheet through the vertex (`1 - (1 + k) c z > 0`). From a ray's
+/// ring's conic the root where the ray crosses it in its direction of
+/// travel ([`front_parts`]: the conic is often an oblate ellipsoid the ray
+/// starts inside, with its nearer root on the far sheet), or, for the rare
+/// lane where that is off the vertex sheet or missing, the surface's start
+/// conic's; from the surface's start conic the nearer root, rationalised
+/// (`-C / (B + s R)`, `R` the discriminant's square root, s the sign of
+/// B), where it lies on that sheet, else the other (a strong hyperboloid's
+/// second sheet lies close in front of the vertex). Where the line misses
+/// the conic, `-C / B` (where it would touch it).
 #[inline(always)]
-pub(crate) fn newton_start_from<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3], q: &ConicRoot<L>) -> Newton<L> {
-    let one = L::splat(1.0);
-    let ConicRoot { k1c, pz, qc, far, disc, .. } = *q;
-    let near = -qc / far;
-    let u = if a.zones.is_some() {
-        // the front root of the ray's ring's conic (often an oblate
-        // ellipsoid the ray starts inside, with its nearer root on the far
-        // sheet); the rare lane where that is off the vertex sheet or
-        // missing starts from the surface's own conic, as below
-        let ok = on_sheet(k1c, pz, near, d) & near.is_finite();
-        if (!ok).any() {
-            let own = conic_root_of(&own_start(a, p[2]), p, d, false);
-            L::select(ok, near, nearer_or_other(&own, d))
-        } else {
-            near
-        }
-    } else {
-        nearer_or_other(q, d)
-    };
-    if a.conic_only {
-        // the root is exact (to rounding): done, unless the line misses;
-        // the normal needs m there (and Q = 0)
-        let met = !disc.is_neg() & u.is_finite();
-        let m = (-k1c).fma(u.fma(d[2], pz), one);
-        return Newton { p, u, q: L::splat(0.0), m, converged: met, missed: !met };
+pub(crate) fn start_u<S: Real>(st: &StartLanes<S>, p: [S; 3], d: [S; 3], q: &ConicRoot<S>) -> S {
+    if st.zones.is_none() {
+        return nearer_or_other(q, d);
     }
-    Newton { p, u, q: L::splat(0.0), m: one, converged: !L::Mask::all_true(), missed: !u.is_finite() }
+    let near = -q.qc / q.far;
+    let ok = on_sheet(q.k1c, q.pz, near, d) & near.is_finite();
+    if (!ok).any() {
+        let own = conic_root_of(&own_start(st, p[2]), p, d, false);
+        S::select(ok, near, nearer_or_other(&own, d))
+    } else {
+        near
+    }
 }
 
 /// One step of Newton's iteration for the lanes still in it; the others
@@ -768,14 +826,14 @@ pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3], r2:
     AsphereHit { t: st.u, x, y, z, r2, n, ok: !missed & near, converged: st.converged & !missed }
 }
 
-/// Intersects the ray `p + t d` (unit `d`, the asphere's frame) with the
-/// asphere `a`: [`newton_start`], then [`newton_step`] until every lane has
+/// Intersects one ray `p + t d` (unit `d`, the asphere's frame) with the
+/// asphere `a`: [`newton_start`], then [`newton_step`] until the ray has
 /// left the iteration or [`MAX_NEWTON_STEPS`] were taken.
 #[inline(always)]
-pub(crate) fn meet_asphere<L: Real>(a: &AsphereLanes<L>, p: [L; 3], d: [L; 3]) -> AsphereHit<L> {
+pub(crate) fn meet_asphere(a: &AsphereLanes<f64>, p: [f64; 3], d: [f64; 3]) -> AsphereHit<f64> {
     macro_rules! go {
         ($third:literal, $odd:literal, $terms:literal) => {
-            meet::<L, $third, $odd, $terms>(a, p, d)
+            meet::<$third, $odd, $terms>(a, p, d)
         };
     }
     by_asphere_kind!(a, go)
@@ -804,33 +862,34 @@ pub(crate) use by_asphere_kind;
 /// [`AsphereLanes::odd`] and [`AsphereLanes::chain_terms`] are `THIRD`,
 /// `ODD` and `TERMS`.
 #[inline(always)]
-fn meet<L: Real, const THIRD: bool, const ODD: bool, const TERMS: usize>(
-    a: &AsphereLanes<L>,
-    p: [L; 3],
-    d: [L; 3],
-) -> AsphereHit<L> {
+fn meet<const THIRD: bool, const ODD: bool, const TERMS: usize>(
+    a: &AsphereLanes<f64>,
+    p: [f64; 3],
+    d: [f64; 3],
+) -> AsphereHit<f64> {
     let mut st = newton_start(a, p, d);
     for _ in 0..MAX_NEWTON_STEPS {
         if !newton_running(&st) {
             break;
         }
-        newton_step::<L, THIRD, ODD, TERMS>(a, d, &mut st);
+        newton_step::<f64, THIRD, ODD, TERMS>(a, d, &mut st);
     }
-    newton_hit::<L, THIRD, ODD, TERMS>(a, d, &st)
+    newton_hit::<f64, THIRD, ODD, TERMS>(a, d, &st)
 }
 
-/// An asphere step: shift into the surface's frame, intersect
+/// An asphere step for one ray: shift into the surface's frame, intersect
 /// ([`meet_asphere`]), clip by the clear aperture, refract at the unit
-/// normal. `REFRACT` must be the step's `refract`.
+/// normal. `REFRACT` must be the step's `refract`. (The batch runs the same
+/// stages over a chunk: `batch.rs`.)
 #[inline(always)]
-pub(crate) fn asphere_step<L: Real, const REFRACT: bool>(
-    s: &StepLanes<L>,
-    a: &AsphereLanes<L>,
-    l: Lane<L>,
-) -> StepOut<L> {
+pub(crate) fn asphere_step<const REFRACT: bool>(
+    s: &StepLanes<f64>,
+    a: &AsphereLanes<f64>,
+    l: Lane<f64>,
+) -> StepOut<f64> {
     let p = [l.px, l.py, l.pz - s.shift];
     let d = [l.dx, l.dy, l.dz];
-    asphere_carry::<L, REFRACT>(s, &meet_asphere(a, p, d), d, l.opl)
+    asphere_carry::<f64, REFRACT>(s, &meet_asphere(a, p, d), d, l.opl)
 }
 
 /// The rest of an asphere step after the hit `h` of the ray of direction
@@ -959,7 +1018,7 @@ mod tests {
         let c = 1.0 / -91.82;
         let ringed = AsphereLanes::<f64>::of(c, &canon, 11.9 * 11.9);
         let plain = AsphereLanes::<f64>::of(c, &canon, f64::INFINITY);
-        assert!(ringed.zones.is_some() && plain.zones.is_none());
+        assert!(ringed.start.zones.is_some() && plain.start.zones.is_none());
         let (one_ringed, one_plain) =
             one_step_rays::<false, 4>(&canon, c, 11.9, [&ringed, &plain], (11.5, 25f64.to_radians(), 0.5), 0x5eed);
         assert_eq!(one_ringed, 2000, "rays taking one step from the rings");
@@ -969,9 +1028,10 @@ mod tests {
         // (an ellipsoid 17 mm across): it starts from the sphere's root, as
         // without rings
         let (p, d) = ([0.0, 50.0, -0.5], [0.0, 0.0, 1.0]);
-        let ring = conic_root_of(&start_conic(&ringed, p, d), p, d, true);
+        let (p32, d32) = ([0.0, 50.0, -0.5], [0.0, 0.0, 1.0]);
+        let ring = conic_root_of(&start_conic(&ringed.start, p32, d32), p32, d32, true);
         assert!(ring.disc < 0.0, "the ring's conic is met");
-        let (start, own) = (conic_root(&ringed, p, d), conic_root(&plain, p, d));
+        let (start, own) = (start_root(&ringed.start, p32, d32), start_root(&plain.start, p32, d32));
         assert!(
             start.disc >= 0.0 && start.far.to_bits() == own.far.to_bits() && start.qc.to_bits() == own.qc.to_bits()
         );
@@ -1005,7 +1065,7 @@ mod tests {
         let ringed = AsphereLanes::<f64>::of(c, &phone, sd * sd);
         let plain = AsphereLanes::<f64>::of(c, &phone, f64::INFINITY);
         assert!(ringed.third_order() && ringed.odd() && ringed.chain_terms() == 5);
-        let zones = ringed.zones.as_ref().expect("rings");
+        let zones = ringed.start.zones.as_ref().expect("rings");
         assert!(zones.own_conics() > 20, "{} rings with their own conic", zones.own_conics());
         let (one_ringed, one_plain) =
             one_step_rays::<true, 5>(&phone, c, sd, [&ringed, &plain], (0.98 * sd, 0.3, 0.2), 0xfee1);
@@ -1078,14 +1138,13 @@ mod tests {
         let mut next = crate::trace::uniform(0xf0);
         for (c, k) in [(1.0 / 20.0, 0.0), (-1.0 / 20.0, 0.0), (1.0 / 15.0, 4.0), (-1.0 / 15.0, 4.0), (1.0 / 10.0, -5.0)]
         {
-            let a = AsphereLanes::<f64>::of(c, &Asphere::new(k, &[], &[]).unwrap(), f64::INFINITY);
             let mut met = 0;
             for _ in 0..500 {
                 let (th, psi) = (0.6 * next(), std::f64::consts::TAU * next());
                 let sigma = if next() < 0.5 { -1.0 } else { 1.0 };
                 let d = [th.sin() * psi.cos(), th.sin() * psi.sin(), sigma * th.cos()];
                 let p = [6.0 * (next() - 0.5), 6.0 * (next() - 0.5), -sigma * (0.5 + 3.0 * next())];
-                let q = conic_root_of(&start_conic(&a, p, d), p, d, true);
+                let q = conic_root_of(&StartConic { c, kc: k * c, k1c: (1.0 + k) * c, pz: p[2] }, p, d, true);
                 let t = -q.qc / q.far;
                 if q.disc < 0.0 || !t.is_finite() {
                     continue;

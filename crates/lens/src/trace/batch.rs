@@ -31,14 +31,18 @@ use crate::error::OpticsError;
 #[cfg(target_arch = "x86_64")]
 use crate::simd::avx2::{F64x4, M64x4};
 #[cfg(target_arch = "x86_64")]
+use crate::simd::avx2_f32::F32x8;
+#[cfg(target_arch = "x86_64")]
 use crate::simd::avx512::{F64x8, M64x8};
+#[cfg(target_arch = "x86_64")]
+use crate::simd::avx512_f32::F32x16;
 #[cfg(target_arch = "x86_64")]
 use crate::simd::lanes::Real;
 #[cfg(target_arch = "x86_64")]
 use crate::trace::asphere::{
-    asphere_carry, by_asphere_kind, conic_root, conic_root_of, hit_with_normal, newton_eval, newton_finish, newton_hit,
-    newton_running, newton_start_from, ring_conic, ring_or_start, zones_of, AsphereLanes, ConicRoot, Newton,
-    NewtonEval, StartConic, MAX_NEWTON_STEPS,
+    asphere_carry, by_asphere_kind, conic_only_root, conic_only_start, conic_root_of, hit_with_normal, newton_eval,
+    newton_finish, newton_hit, newton_running, newton_start_at, ring_conic, ring_or_start, start_root, start_u,
+    zones_of, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic, MAX_NEWTON_STEPS,
 };
 #[cfg(target_arch = "x86_64")]
 use crate::trace::step::StepOut;
@@ -782,6 +786,15 @@ pub(super) trait Wide: Real + NewtonFlags {
     fn put(self, s: &mut [f64], j: usize);
     /// One bit per lane of `m`, lane 0 the lowest.
     fn mask_bits(m: Self::Mask) -> u64;
+    /// The lanes of `lo` then `hi` in one vector of f32 lanes (each
+    /// rounded to the nearest f32), in which an asphere's start is made.
+    fn narrow(lo: Self, hi: Self) -> Self::F32;
+    /// [`Self::narrow`]'s two vectors back from its f32 lanes (exactly).
+    fn widen(x: Self::F32) -> (Self, Self);
+    /// The f32 vector held in the bytes of vector `j` of `s`.
+    fn at32(s: &[f64], j: usize) -> Self::F32;
+    /// Stores an f32 vector into the bytes of vector `j` of `s`.
+    fn put32(x: Self::F32, s: &mut [f64], j: usize);
     /// [`asphere_chunk`] for one kind of asphere at this width, over the
     /// chunk's first `n` vectors, compiled with the width's target
     /// features: a function of its own for each kind (`THIRD`, `ODD`,
@@ -819,7 +832,7 @@ pub(super) trait Wide: Real + NewtonFlags {
 /// mask type `$mask` with `bits`, its kernel for one kind of asphere
 /// compiled with `$features`.
 macro_rules! wide {
-    ($t:ident, $mask:ident, $n:literal, $features:literal) => {
+    ($t:ident, $mask:ident, $f32:ident, $n:literal, $features:literal) => {
         #[cfg(target_arch = "x86_64")]
         impl Wide for $t {
             const N: usize = $n;
@@ -834,6 +847,22 @@ macro_rules! wide {
             #[inline(always)]
             fn mask_bits(m: $mask) -> u64 {
                 u64::from(m.bits())
+            }
+            #[inline(always)]
+            fn narrow(lo: Self, hi: Self) -> $f32 {
+                $f32::narrow(lo, hi)
+            }
+            #[inline(always)]
+            fn widen(x: $f32) -> (Self, Self) {
+                x.widen()
+            }
+            #[inline(always)]
+            fn at32(s: &[f64], j: usize) -> $f32 {
+                $f32::load_bits(s[$n * j..].first_chunk().expect("a whole vector"))
+            }
+            #[inline(always)]
+            fn put32(x: $f32, s: &mut [f64], j: usize) {
+                x.store_bits(s[$n * j..].first_chunk_mut().expect("a whole vector"));
             }
             #[target_feature(enable = $features)]
             #[inline(never)]
@@ -860,8 +889,8 @@ macro_rules! wide {
     };
 }
 
-wide!(F64x4, M64x4, 4, "avx2,fma");
-wide!(F64x8, M64x8, 8, "avx2,fma,avx512f,avx512vl");
+wide!(F64x4, M64x4, F32x8, 4, "avx2,fma");
+wide!(F64x8, M64x8, F32x16, 8, "avx2,fma,avx512f,avx512vl");
 
 /// Vector `j` of `rays`: points, directions, path lengths.
 #[cfg(target_arch = "x86_64")]
@@ -991,14 +1020,27 @@ unsafe fn asphere_chunk_of<W: Wide, const REFRACT: bool, const PER_RAY: bool>(
     by_asphere_kind!(a, go)
 }
 
-/// The start conic of vector `j` into the first four of its six root
-/// numbers in `nw` (its conic root's loop reads them).
+/// The start conic of pair `q` (f32 lanes) into the first four of its six
+/// root numbers in `nw` (its conic root's loop reads them).
 #[cfg(target_arch = "x86_64")]
 #[inline(always)]
-fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, j: usize, sc: StartConic<W>) {
+fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, q: usize, sc: StartConic<W::F32>) {
     for (k, v) in [sc.c, sc.kc, sc.k1c, sc.pz].into_iter().enumerate() {
-        v.put(&mut nw.root, 6 * j + k);
+        W::put32(v, &mut nw.root, 6 * q + k);
     }
+}
+
+/// The rays of vectors `2 q` and `2 q + 1` in the surface's frame (`shift`
+/// the step's), narrowed to f32 lanes: points and directions.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+fn pair_rays<W: Wide>(src: &Rays4, shift: W, q: usize) -> ([W::F32; 3], [W::F32; 3]) {
+    let (p0, d0, _) = load_rays::<W>(src, 2 * q);
+    let (p1, d1, _) = load_rays::<W>(src, 2 * q + 1);
+    (
+        [W::narrow(p0[0], p1[0]), W::narrow(p0[1], p1[1]), W::narrow(p0[2] - shift, p1[2] - shift)],
+        [W::narrow(d0[0], d1[0]), W::narrow(d0[1], d1[1]), W::narrow(d0[2], d1[2])],
+    )
 }
 
 /// What [`asphere_chunk`] keeps for each vector between its loops, the
@@ -1026,6 +1068,10 @@ pub(super) struct NewtonScratch {
     flags: [[u8; 2]; CHUNK],
     eval: [f64; CHUNK * 5],
     normal: [f64; CHUNK * 4],
+    /// Each pair of vectors' rays narrowed to f32 lanes for the start
+    /// (points, then directions: six f32 vectors, each in one vector's
+    /// bytes), narrowed once instead of in each of the start's loops.
+    rays32: [f64; CHUNK * 3],
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -1036,6 +1082,7 @@ impl NewtonScratch {
         flags: [[0; 2]; CHUNK],
         eval: [0.0; CHUNK * 5],
         normal: [0.0; CHUNK * 4],
+        rays32: [0.0; CHUNK * 3],
     };
 
     #[inline(always)]
@@ -1046,6 +1093,43 @@ impl NewtonScratch {
     #[inline(always)]
     fn root<W: Wide>(&self, j: usize) -> ConicRoot<W> {
         let [k1c, pz, qa, qc, far, disc] = get6(&self.root, j);
+        ConicRoot { k1c, pz, qa, qc, far, disc }
+    }
+
+    /// Stores pair `q`'s rays in f32 lanes ([`pair_rays`]).
+    #[inline(always)]
+    fn put_rays32<W: Wide>(&mut self, q: usize, (p, d): ([W::F32; 3], [W::F32; 3])) {
+        for (k, v) in [p[0], p[1], p[2], d[0], d[1], d[2]].into_iter().enumerate() {
+            W::put32(v, &mut self.rays32, 6 * q + k);
+        }
+    }
+
+    /// Pair `q`'s rays in f32 lanes, as [`Self::put_rays32`] stored them.
+    #[inline(always)]
+    fn rays32<W: Wide>(&self, q: usize) -> ([W::F32; 3], [W::F32; 3]) {
+        let (r, q) = (&self.rays32, 6 * q);
+        (
+            [W::at32(r, q), W::at32(r, q + 1), W::at32(r, q + 2)],
+            [W::at32(r, q + 3), W::at32(r, q + 4), W::at32(r, q + 5)],
+        )
+    }
+
+    /// [`Self::put_root`] for pair `q`'s root in f32 lanes.
+    #[inline(always)]
+    fn put_root32<W: Wide>(&mut self, q: usize, r: &ConicRoot<W::F32>) {
+        for (k, v) in [r.k1c, r.pz, r.qa, r.qc, r.far, r.disc].into_iter().enumerate() {
+            W::put32(v, &mut self.root, 6 * q + k);
+        }
+    }
+
+    /// Pair `q`'s root in f32 lanes.
+    #[inline(always)]
+    fn root32<W: Wide>(&self, q: usize) -> ConicRoot<W::F32> {
+        // written out, no closure (one not inlined runs without the
+        // caller's target features)
+        let (r, q) = (&self.root, 6 * q);
+        let [k1c, pz, qa] = [W::at32(r, q), W::at32(r, q + 1), W::at32(r, q + 2)];
+        let [qc, far, disc] = [W::at32(r, q + 3), W::at32(r, q + 4), W::at32(r, q + 5)];
         ConicRoot { k1c, pz, qa, qc, far, disc }
     }
 
@@ -1175,48 +1259,60 @@ fn asphere_chunk<
         let (p, d, _) = load_rays::<W>(src, j);
         ([p[0], p[1], p[2] - sl.shift], d)
     };
-    if let Some(z) = zones_of(a) {
-        // each ray's ring and its conic (a table row per lane), then the
-        // roots: short chains a vector instead of one long one. Eight lanes
-        // read the rows with permutes and take ring and row in one loop;
-        // four read a row per lane, after a loop of rings (measured both
-        // ways, docs/performance.md)
-        for j in 0..n {
-            let (p, d) = ray(j);
-            if W::N == 8 {
-                put_start_conic(nw, j, ring_conic(z.of_ray(p, d), p[2]));
-            } else {
-                z.ring(p, d).put(&mut nw.root, 6 * j);
+    let mut live = 0u64;
+    if a.iterates() {
+        // the start in f32, two vectors' rays at a time (`pairs`; where `n`
+        // is odd the last pair's second vector is the chunk's next, its
+        // lanes computed and not used): each ray's ring and its conic (a
+        // table row per lane, read with permutes), then the roots, then
+        // the starts: short chains a pair instead of one long one
+        let st = a.start();
+        let pairs = n.div_ceil(2);
+        if let Some(z) = zones_of(a) {
+            for q in 0..pairs {
+                let (p, d) = pair_rays::<W>(src, sl.shift, q);
+                nw.put_rays32::<W>(q, (p, d));
+                put_start_conic::<W>(nw, q, ring_conic(z.of_ray(p, d), p[2]));
+            }
+            for q in 0..pairs {
+                let (p, d) = nw.rays32::<W>(q);
+                let r = &nw.root;
+                let [c, kc, k1c, pz] =
+                    [W::at32(r, 6 * q), W::at32(r, 6 * q + 1), W::at32(r, 6 * q + 2), W::at32(r, 6 * q + 3)];
+                let ring = conic_root_of(&StartConic { c, kc, k1c, pz }, p, d, true);
+                nw.put_root32::<W>(q, &ring_or_start(st, ring, p, d));
+            }
+        } else {
+            for q in 0..pairs {
+                let (p, d) = pair_rays::<W>(src, sl.shift, q);
+                nw.put_rays32::<W>(q, (p, d));
+                nw.put_root32::<W>(q, &start_root(st, p, d));
             }
         }
-        if W::N != 8 {
-            for j in 0..n {
-                let (p, _) = ray(j);
-                put_start_conic(nw, j, ring_conic(z.of_ring(W::at(&nw.root, 6 * j)), p[2]));
+        for q in 0..pairs {
+            let (p32, d32) = nw.rays32::<W>(q);
+            let (u0, u1) = W::widen(start_u(st, p32, d32, &nw.root32::<W>(q)));
+            let (p, _) = ray(2 * q);
+            let first = newton_start_at(p, u0);
+            nw.put_state::<W, THIRD>(2 * q, &first);
+            live |= u64::from(newton_running(&first)) << (2 * q);
+            if 2 * q + 1 < n {
+                let (p, _) = ray(2 * q + 1);
+                let second = newton_start_at(p, u1);
+                nw.put_state::<W, THIRD>(2 * q + 1, &second);
+                live |= u64::from(newton_running(&second)) << (2 * q + 1);
             }
-        }
-        for j in 0..n {
-            let (p, d) = ray(j);
-            let r = &nw.root;
-            let [c, kc, k1c, pz] = [W::at(r, 6 * j), W::at(r, 6 * j + 1), W::at(r, 6 * j + 2), W::at(r, 6 * j + 3)];
-            let ring = conic_root_of(&StartConic { c, kc, k1c, pz }, p, d, true);
-            nw.put_root(j, &ring_or_start(a, ring, p, d));
         }
     } else {
+        // a pure conic: its root, in f64, is the intersection
         for j in 0..n {
             let (p, d) = ray(j);
-            nw.put_root(j, &conic_root(a, p, d));
+            nw.put_root(j, &conic_only_root(a, p, d));
         }
-    }
-    let mut live = 0u64;
-    for j in 0..n {
-        let (p, d) = ray(j);
-        let st = newton_start_from(a, p, d, &nw.root(j));
-        nw.put_state::<W, THIRD>(j, &st);
-        live |= u64::from(newton_running(&st)) << j;
-    }
-    if !a.iterates() {
-        live = 0;
+        for j in 0..n {
+            let (p, d) = ray(j);
+            nw.put_state::<W, THIRD>(j, &conic_only_start(p, d, &nw.root(j)));
+        }
     }
     for _ in 0..MAX_NEWTON_STEPS {
         if live == 0 {

@@ -674,22 +674,22 @@ pub(crate) fn stopped(s: &Step, before: Lane<f64>, next: Lane<f64>, kind: u64) -
 /// numbers (made once per tracer, [`super::tracer::Tracer`]), `None` for a
 /// step of another shape.
 #[inline(always)]
-pub(crate) fn step_dispatch<L: Real>(
+pub(crate) fn step_dispatch(
     s: &Step,
-    asphere: Option<&AsphereLanes<L>>,
-    k: &StepLanes<L>,
-    l: Lane<L>,
-) -> StepOut<L> {
+    asphere: Option<&AsphereLanes<f64>>,
+    k: &StepLanes<f64>,
+    l: Lane<f64>,
+) -> StepOut<f64> {
     if let (ASPHERE, Some(a)) = (s.shape, asphere) {
-        return if s.refract { asphere_step::<L, true>(k, a, l) } else { asphere_step::<L, false>(k, a, l) };
+        return if s.refract { asphere_step::<true>(k, a, l) } else { asphere_step::<false>(k, a, l) };
     }
     match (s.refract, s.shape) {
-        (true, PLANE) => step_lanes::<L, true, PLANE>(k, l),
-        (true, FLAT) => step_lanes::<L, true, FLAT>(k, l),
-        (true, _) => step_lanes::<L, true, CURVED>(k, l),
-        (false, PLANE) => step_lanes::<L, false, PLANE>(k, l),
-        (false, FLAT) => step_lanes::<L, false, FLAT>(k, l),
-        (false, _) => step_lanes::<L, false, CURVED>(k, l),
+        (true, PLANE) => step_lanes::<f64, true, PLANE>(k, l),
+        (true, FLAT) => step_lanes::<f64, true, FLAT>(k, l),
+        (true, _) => step_lanes::<f64, true, CURVED>(k, l),
+        (false, PLANE) => step_lanes::<f64, false, PLANE>(k, l),
+        (false, FLAT) => step_lanes::<f64, false, FLAT>(k, l),
+        (false, _) => step_lanes::<f64, false, CURVED>(k, l),
     }
 }
 

@@ -26,7 +26,7 @@
 //! never where it ends.
 
 use crate::model::surface::Asphere;
-use crate::simd::lanes::Real;
+use crate::simd::lanes::{Real, RingRows};
 
 /// Rings of the clear aperture, of equal steps in s = r^2.
 pub(crate) const ZONES: usize = 32;
@@ -48,8 +48,11 @@ pub(crate) struct Zones {
     /// `ZONES / sd^2`, 1/mm^2: s times this is a ray's ring (truncated).
     per_s: f64,
     rows: [[f64; 4]; ZONES],
-    /// The same numbers by columns: `cols[k][i] = rows[i][k]` (k < 3).
-    cols: [[f64; ZONES]; 3],
+    /// The rows rounded to f32, which the start reads (it is computed in
+    /// f32: `trace/asphere.rs`), as rows and by columns (`cols[k][i] =
+    /// rows[i][k]`, k < 3).
+    rows32: [[f32; 4]; ZONES],
+    cols32: [[f32; ZONES]; 3],
 }
 
 /// An asphere's sag and its first two derivatives in s = r^2.
@@ -147,7 +150,8 @@ impl Zones {
             return None;
         }
         let width = sd2 / ZONES as f64;
-        let mut zones = Zones { per_s: 1.0 / width, rows: [start; ZONES], cols: [[0.0; ZONES]; 3] };
+        let mut zones =
+            Zones { per_s: 1.0 / width, rows: [start; ZONES], rows32: [[0.0; 4]; ZONES], cols32: [[0.0; ZONES]; 3] };
         let mut any = false;
         for (i, row) in zones.rows.iter_mut().enumerate() {
             let s = (i as f64 + 0.5) * width;
@@ -180,8 +184,9 @@ impl Zones {
             }
         }
         for (i, row) in zones.rows.iter().enumerate() {
-            for (col, v) in zones.cols.iter_mut().zip(row) {
-                col[i] = *v;
+            zones.rows32[i] = row.map(|v| v as f32);
+            for (col, v) in zones.cols32.iter_mut().zip(row) {
+                col[i] = *v as f32;
             }
         }
         any.then_some(zones)
@@ -194,7 +199,7 @@ impl Zones {
     /// ring, whose conic fits there too); a ray crossing past the aperture,
     /// or parallel to the plane, takes the outermost ring.
     #[inline(always)]
-    pub(crate) fn of_ray<L: Real>(&self, p: [L; 3], d: [L; 3]) -> (L, L, L) {
+    pub(crate) fn of_ray<L: RingRows>(&self, p: [L; 3], d: [L; 3]) -> (L, L, L) {
         self.of_ring(self.ring(p, d))
     }
 
@@ -215,8 +220,8 @@ impl Zones {
 
     /// The conic `(c, k c, z0)` of the ring [`Self::ring`] gave.
     #[inline(always)]
-    pub(crate) fn of_ring<L: Real>(&self, ring: L) -> (L, L, L) {
-        let [c, kc, z0] = L::rows32(&self.rows, &self.cols, ring);
+    pub(crate) fn of_ring<L: RingRows>(&self, ring: L) -> (L, L, L) {
+        let [c, kc, z0] = L::rows32(&self.rows32, &self.cols32, ring);
         (c, kc, z0)
     }
 }

@@ -1,0 +1,314 @@
+//! Sixteen f32 lanes in one AVX-512 register, implementing [`Real`] with
+//! one instruction per operation, as [`super::avx512`] does for eight f64
+//! lanes: the numbers an asphere's start is computed in for two of the
+//! eight-lane vectors at once (`trace/asphere.rs`), lane for lane those of
+//! the one-ray path's `f32`. Masks are the mask registers' bits.
+//!
+//! Values of these types are made only inside functions compiled with
+//! `#[target_feature(enable = "avx2,fma,avx512f,avx512vl")]` (module
+//! invariant, as in [`super::avx512`]).
+
+use crate::simd::avx512::F64x8;
+use crate::simd::lanes::{Mask, Real, RingRows, SIGN32};
+use std::arch::x86_64::*;
+use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+
+/// Sixteen f32 lanes.
+#[derive(Clone, Copy)]
+pub(crate) struct F32x16(__m512);
+
+/// Sixteen truth values, bit `j` for lane `j`.
+#[derive(Clone, Copy)]
+pub(crate) struct M32x16(__mmask16);
+
+impl F32x16 {
+    /// `lo`'s eight lanes then `hi`'s, each rounded to the nearest f32.
+    #[inline(always)]
+    pub(crate) fn narrow(lo: F64x8, hi: F64x8) -> Self {
+        // SAFETY: AVX-512F is available (module invariant); the halves are
+        // joined as four f64's worth of bits each (an f32x8 insert would
+        // need AVX-512DQ).
+        unsafe {
+            let l = _mm256_castps_pd(_mm512_cvtpd_ps(lo.raw()));
+            let h = _mm256_castps_pd(_mm512_cvtpd_ps(hi.raw()));
+            F32x16(_mm512_castpd_ps(_mm512_insertf64x4::<1>(_mm512_castpd256_pd512(l), h)))
+        }
+    }
+
+    /// The first eight lanes and the last eight, as f64 (exactly).
+    #[inline(always)]
+    pub(crate) fn widen(self) -> (F64x8, F64x8) {
+        // SAFETY: AVX-512F is available (module invariant).
+        unsafe {
+            let lo = _mm512_cvtps_pd(_mm512_castps512_ps256(self.0));
+            let hi = _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd::<1>(_mm512_castps_pd(self.0))));
+            (F64x8::from_raw(lo), F64x8::from_raw(hi))
+        }
+    }
+
+    /// The lanes held in the 64 bytes of `s[0..8]` (as [`Self::store_bits`]
+    /// left them).
+    #[inline(always)]
+    pub(crate) fn load_bits(s: &[f64; 8]) -> Self {
+        // SAFETY: AVX-512F is available (module invariant); the array has 64
+        // bytes, read unaligned.
+        F32x16(unsafe { _mm512_loadu_ps(s.as_ptr().cast::<f32>()) })
+    }
+
+    /// Stores the lanes into the 64 bytes of `s[0..8]`.
+    #[inline(always)]
+    pub(crate) fn store_bits(self, s: &mut [f64; 8]) {
+        // SAFETY: as in `load_bits`.
+        unsafe { _mm512_storeu_ps(s.as_mut_ptr().cast::<f32>(), self.0) }
+    }
+
+    #[inline(always)]
+    fn bits(self) -> __m512i {
+        // SAFETY: AVX-512F is available (module invariant).
+        unsafe { _mm512_castps_si512(self.0) }
+    }
+
+    #[inline(always)]
+    fn of_bits(b: __m512i) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        F32x16(unsafe { _mm512_castsi512_ps(b) })
+    }
+}
+
+macro_rules! binary {
+    ($trait:ident, $method:ident, $intrinsic:ident) => {
+        impl $trait for F32x16 {
+            type Output = F32x16;
+            #[inline(always)]
+            fn $method(self, o: F32x16) -> F32x16 {
+                // SAFETY: AVX-512F is available (module invariant).
+                F32x16(unsafe { $intrinsic(self.0, o.0) })
+            }
+        }
+    };
+}
+
+binary!(Add, add, _mm512_add_ps);
+binary!(Sub, sub, _mm512_sub_ps);
+binary!(Mul, mul, _mm512_mul_ps);
+binary!(Div, div, _mm512_div_ps);
+
+impl Neg for F32x16 {
+    type Output = F32x16;
+    #[inline(always)]
+    fn neg(self) -> F32x16 {
+        self.xor(F32x16::splat(-0.0))
+    }
+}
+
+impl BitAnd for M32x16 {
+    type Output = M32x16;
+    #[inline(always)]
+    fn bitand(self, o: M32x16) -> M32x16 {
+        M32x16(self.0 & o.0)
+    }
+}
+
+impl BitOr for M32x16 {
+    type Output = M32x16;
+    #[inline(always)]
+    fn bitor(self, o: M32x16) -> M32x16 {
+        M32x16(self.0 | o.0)
+    }
+}
+
+impl Not for M32x16 {
+    type Output = M32x16;
+    #[inline(always)]
+    fn not(self) -> M32x16 {
+        M32x16(!self.0)
+    }
+}
+
+impl Mask for M32x16 {
+    #[inline(always)]
+    fn all_true() -> Self {
+        M32x16(0xffff)
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0 != 0
+    }
+}
+
+impl Real for F32x16 {
+    type Mask = M32x16;
+    type F32 = F32x16;
+
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        F32x16(unsafe { _mm512_set1_ps(v as f32) })
+    }
+    #[inline(always)]
+    fn fma(self, a: Self, b: Self) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        F32x16(unsafe { _mm512_fmadd_ps(self.0, a.0, b.0) })
+    }
+    #[inline(always)]
+    fn sqrt(self) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        F32x16(unsafe { _mm512_sqrt_ps(self.0) })
+    }
+    #[inline(always)]
+    fn sign_bit(self) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        Self::of_bits(unsafe { _mm512_and_si512(self.bits(), _mm512_set1_epi32(SIGN32 as i32)) })
+    }
+    #[inline(always)]
+    fn xor(self, o: Self) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        Self::of_bits(unsafe { _mm512_xor_si512(self.bits(), o.bits()) })
+    }
+    #[inline(always)]
+    fn or(self, o: Self) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        Self::of_bits(unsafe { _mm512_or_si512(self.bits(), o.bits()) })
+    }
+    #[inline(always)]
+    fn is_finite(self) -> M32x16 {
+        // x * 0 is +-0 for finite x, NaN for infinities and NaN
+        // SAFETY: AVX-512F is available (module invariant).
+        unsafe {
+            let zero = _mm512_setzero_ps();
+            M32x16(_mm512_cmp_ps_mask::<_CMP_EQ_OQ>(_mm512_mul_ps(self.0, zero), zero))
+        }
+    }
+    #[inline(always)]
+    fn is_neg(self) -> M32x16 {
+        // the sign bit: negative as a signed integer
+        // SAFETY: AVX-512F is available (module invariant).
+        M32x16(unsafe { _mm512_cmplt_epi32_mask(self.bits(), _mm512_setzero_si512()) })
+    }
+    #[inline(always)]
+    fn abs(self) -> Self {
+        // SAFETY: AVX-512F is available (module invariant).
+        Self::of_bits(unsafe { _mm512_andnot_si512(_mm512_set1_epi32(SIGN32 as i32), self.bits()) })
+    }
+    #[inline(always)]
+    fn le(self, o: Self) -> M32x16 {
+        // SAFETY: AVX-512F is available (module invariant).
+        M32x16(unsafe { _mm512_cmp_ps_mask::<_CMP_LE_OQ>(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn select(m: M32x16, a: Self, b: Self) -> Self {
+        // blend takes its second operand where the mask is set
+        // SAFETY: AVX-512F is available (module invariant).
+        F32x16(unsafe { _mm512_mask_blend_ps(m.0, b.0, a.0) })
+    }
+    #[inline(always)]
+    fn from_mask(m: M32x16) -> Self {
+        // all ones (a negative NaN) where true, +0 elsewhere
+        // SAFETY: AVX-512F is available (module invariant).
+        Self::of_bits(unsafe { _mm512_maskz_mov_epi32(m.0, _mm512_set1_epi32(-1)) })
+    }
+}
+
+impl RingRows for F32x16 {
+    #[inline(always)]
+    fn rows32(_: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: Self) -> [Self; 3] {
+        // SAFETY: AVX-512F is available (module invariant); the index is
+        // clamped to 0..=31 as the one-ray path's (max_ps gives 0 for a
+        // NaN), and a two-register permute reads its five low bits: one
+        // instruction a column.
+        unsafe {
+            let clamped = _mm512_min_ps(_mm512_max_ps(at.0, _mm512_setzero_ps()), _mm512_set1_ps(31.0));
+            let i = _mm512_cvttps_epi32(clamped);
+            [pick(&cols[0], i), pick(&cols[1], i), pick(&cols[2], i)]
+        }
+    }
+}
+
+/// Entry `i` (its five low bits) of `col` in each lane. A function, not a
+/// closure (one not inlined runs outside the caller's target features).
+///
+/// # Safety
+///
+/// AVX-512F must be available (module invariant).
+#[inline(always)]
+unsafe fn pick(col: &[f32; 32], i: __m512i) -> F32x16 {
+    // SAFETY: AVX-512F is available (the caller's); each load reads 16 of
+    // the column's 32 numbers.
+    unsafe {
+        let p = col.as_ptr();
+        F32x16(_mm512_permutex2var_ps(_mm512_loadu_ps(p), i, _mm512_loadu_ps(p.add(16))))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The sixteen lanes' rows of a table of 32 are the one-ray path's for
+    /// every index: inside, at and past both ends, fractional, infinite and
+    /// NaN; narrowing and widening round as `as f32` and convert exactly as
+    /// `as f64`.
+    #[test]
+    fn rows_by_permutes_are_the_one_ray_rows() {
+        if !(std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512vl")) {
+            return;
+        }
+        let rows: [[f32; 4]; 32] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
+        let cols: [[f32; 32]; 3] = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
+        let at =
+            [-5.0, 0.0, 0.99, 7.5, 15.999, 16.0, 31.0, 31.7, 40.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, 23.2];
+        for start in 0..at.len() {
+            let lanes: [f32; 16] = std::array::from_fn(|j| at[(start + j) % at.len()]);
+            // SAFETY: the CPU has AVX-512F and VL (checked above).
+            let got = unsafe { rows_of(&rows, &cols, &lanes) };
+            for (j, a) in lanes.iter().enumerate() {
+                let want = f32::rows32(&rows, &cols, *a);
+                for k in 0..3 {
+                    assert_eq!(got[k][j].to_bits(), want[k].to_bits(), "lane {j} at {a}");
+                }
+            }
+        }
+        let wide: [f64; 16] = std::array::from_fn(|j| {
+            [1.0 + f64::EPSILON, -1e-40, 3.4e39, f64::NAN, 0.1, -2.5, 1e-3][j % 7] * (j + 1) as f64
+        });
+        // SAFETY: as above.
+        let (lo, hi) = unsafe { round_trip(&wide) };
+        for (j, w) in wide.iter().enumerate() {
+            let got = if j < 8 { lo[j] } else { hi[j - 8] };
+            assert_eq!(got.to_bits(), f64::from(*w as f32).to_bits(), "lane {j}: {w}");
+        }
+    }
+
+    /// [`F32x16::rows32`] at `at`, stored.
+    ///
+    /// # Safety
+    ///
+    /// The CPU must have AVX2, AVX-512F and AVX-512VL.
+    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+    unsafe fn rows_of(rows: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: &[f32; 16]) -> [[f32; 16]; 3] {
+        // SAFETY: AVX-512F is available (this function's).
+        let v = F32x16(unsafe { _mm512_loadu_ps(at.as_ptr()) });
+        let mut out = [[0.0; 16]; 3];
+        for (o, r) in out.iter_mut().zip(F32x16::rows32(rows, cols, v)) {
+            // SAFETY: as above; `o` has sixteen lanes.
+            unsafe { _mm512_storeu_ps(o.as_mut_ptr(), r.0) };
+        }
+        out
+    }
+
+    /// `wide` narrowed to sixteen f32 lanes and widened back.
+    ///
+    /// # Safety
+    ///
+    /// The CPU must have AVX2, AVX-512F and AVX-512VL.
+    #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
+    unsafe fn round_trip(wide: &[f64; 16]) -> ([f64; 8], [f64; 8]) {
+        let lo = F64x8::load(&std::array::from_fn(|j| wide[j]));
+        let hi = F64x8::load(&std::array::from_fn(|j| wide[8 + j]));
+        let (a, b) = F32x16::narrow(lo, hi).widen();
+        let mut out = ([0.0; 8], [0.0; 8]);
+        a.store(&mut out.0);
+        b.store(&mut out.1);
+        out
+    }
+}

@@ -3,10 +3,13 @@
 //! (intersection, clear aperture, refraction, verdict), [`asphere`] the
 //! same for an aspheric surface (Newton's iteration), written once over a
 //! lane type (`lanes`) so that the one-ray path and the batch ([`batch`],
-//! AVX2 vectors of four rays) give the same bits. [`spectral`] traces rays of mixed wavelengths in one batch. [`mod@bench`] is the
+//! vectors of four or eight rays; its aspheric step over a chunk in
+//! `asphere_chunk`) give the same bits. [`spectral`] traces rays of mixed wavelengths in one batch. [`mod@bench`] is the
 //! reproducible workload behind `lens bench`.
 
 pub mod asphere;
+#[cfg(target_arch = "x86_64")]
+mod asphere_chunk;
 pub mod batch;
 pub mod bench;
 pub mod ray;

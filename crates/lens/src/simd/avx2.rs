@@ -9,7 +9,7 @@
 use crate::simd::avx2_f32::F32x8;
 use crate::simd::lanes::{Mask, Real, SIGN};
 use std::arch::x86_64::*;
-use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
+use std::ops::Not;
 
 /// Four f64 lanes.
 #[derive(Clone, Copy)]
@@ -66,48 +66,15 @@ impl M64x4 {
     }
 }
 
-macro_rules! binary {
-    ($trait:ident, $method:ident, $ty:ident, $intrinsic:ident) => {
-        impl $trait for $ty {
-            type Output = $ty;
-            #[inline(always)]
-            fn $method(self, o: $ty) -> $ty {
-                // SAFETY: AVX is available (module invariant).
-                $ty(unsafe { $intrinsic(self.0, o.0) })
-            }
-        }
-    };
-}
-
-binary!(Add, add, F64x4, _mm256_add_pd);
-binary!(Sub, sub, F64x4, _mm256_sub_pd);
-binary!(Mul, mul, F64x4, _mm256_mul_pd);
-binary!(Div, div, F64x4, _mm256_div_pd);
-binary!(BitAnd, bitand, M64x4, _mm256_and_pd);
-binary!(BitOr, bitor, M64x4, _mm256_or_pd);
-
-impl Neg for F64x4 {
-    type Output = F64x4;
-    #[inline(always)]
-    fn neg(self) -> F64x4 {
-        self.xor(F64x4::splat(-0.0))
-    }
-}
+lane_ops!(F64x4: Add add _mm256_add_pd, Sub sub _mm256_sub_pd, Mul mul _mm256_mul_pd, Div div _mm256_div_pd);
+lane_ops!(M64x4: BitAnd bitand _mm256_and_pd, BitOr bitor _mm256_or_pd, BitXor bitxor _mm256_xor_pd);
+lane_neg!(F64x4);
 
 impl Not for M64x4 {
     type Output = M64x4;
     #[inline(always)]
     fn not(self) -> M64x4 {
         M64x4::all_true() ^ self
-    }
-}
-
-impl std::ops::BitXor for M64x4 {
-    type Output = M64x4;
-    #[inline(always)]
-    fn bitxor(self, o: M64x4) -> M64x4 {
-        // SAFETY: AVX is available (module invariant).
-        M64x4(unsafe { _mm256_xor_pd(self.0, o.0) })
     }
 }
 

@@ -11,7 +11,7 @@
 use crate::simd::avx2::F64x4;
 use crate::simd::lanes::{Mask, Real, RingRows, SIGN32};
 use std::arch::x86_64::*;
-use std::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Not, Sub};
+use std::ops::Not;
 
 /// Eight f32 lanes.
 #[derive(Clone, Copy)]
@@ -66,34 +66,9 @@ impl F32x8 {
     }
 }
 
-macro_rules! binary {
-    ($trait:ident, $method:ident, $ty:ident, $intrinsic:ident) => {
-        impl $trait for $ty {
-            type Output = $ty;
-            #[inline(always)]
-            fn $method(self, o: $ty) -> $ty {
-                // SAFETY: AVX is available (module invariant).
-                $ty(unsafe { $intrinsic(self.0, o.0) })
-            }
-        }
-    };
-}
-
-binary!(Add, add, F32x8, _mm256_add_ps);
-binary!(Sub, sub, F32x8, _mm256_sub_ps);
-binary!(Mul, mul, F32x8, _mm256_mul_ps);
-binary!(Div, div, F32x8, _mm256_div_ps);
-binary!(BitAnd, bitand, M32x8, _mm256_and_ps);
-binary!(BitOr, bitor, M32x8, _mm256_or_ps);
-binary!(BitXor, bitxor, M32x8, _mm256_xor_ps);
-
-impl Neg for F32x8 {
-    type Output = F32x8;
-    #[inline(always)]
-    fn neg(self) -> F32x8 {
-        self.xor(F32x8::splat(-0.0))
-    }
-}
+lane_ops!(F32x8: Add add _mm256_add_ps, Sub sub _mm256_sub_ps, Mul mul _mm256_mul_ps, Div div _mm256_div_ps);
+lane_ops!(M32x8: BitAnd bitand _mm256_and_ps, BitOr bitor _mm256_or_ps, BitXor bitxor _mm256_xor_ps);
+lane_neg!(F32x8);
 
 impl Not for M32x8 {
     type Output = M32x8;

@@ -10,9 +10,8 @@
 //! every intrinsic below relies on that.
 
 use crate::simd::avx512_f32::F32x16;
-use crate::simd::lanes::{Mask, Real, SIGN};
+use crate::simd::lanes::{Real, SIGN};
 use std::arch::x86_64::*;
-use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 /// Eight f64 lanes.
 #[derive(Clone, Copy)]
@@ -77,66 +76,9 @@ impl M64x8 {
     }
 }
 
-macro_rules! binary {
-    ($trait:ident, $method:ident, $intrinsic:ident) => {
-        impl $trait for F64x8 {
-            type Output = F64x8;
-            #[inline(always)]
-            fn $method(self, o: F64x8) -> F64x8 {
-                // SAFETY: AVX-512F is available (module invariant).
-                F64x8(unsafe { $intrinsic(self.0, o.0) })
-            }
-        }
-    };
-}
-
-binary!(Add, add, _mm512_add_pd);
-binary!(Sub, sub, _mm512_sub_pd);
-binary!(Mul, mul, _mm512_mul_pd);
-binary!(Div, div, _mm512_div_pd);
-
-impl Neg for F64x8 {
-    type Output = F64x8;
-    #[inline(always)]
-    fn neg(self) -> F64x8 {
-        self.xor(F64x8::splat(-0.0))
-    }
-}
-
-impl BitAnd for M64x8 {
-    type Output = M64x8;
-    #[inline(always)]
-    fn bitand(self, o: M64x8) -> M64x8 {
-        M64x8(self.0 & o.0)
-    }
-}
-
-impl BitOr for M64x8 {
-    type Output = M64x8;
-    #[inline(always)]
-    fn bitor(self, o: M64x8) -> M64x8 {
-        M64x8(self.0 | o.0)
-    }
-}
-
-impl Not for M64x8 {
-    type Output = M64x8;
-    #[inline(always)]
-    fn not(self) -> M64x8 {
-        M64x8(!self.0)
-    }
-}
-
-impl Mask for M64x8 {
-    #[inline(always)]
-    fn all_true() -> Self {
-        M64x8(0xff)
-    }
-    #[inline(always)]
-    fn any(self) -> bool {
-        self.0 != 0
-    }
-}
+lane_ops!(F64x8: Add add _mm512_add_pd, Sub sub _mm512_sub_pd, Mul mul _mm512_mul_pd, Div div _mm512_div_pd);
+lane_neg!(F64x8);
+mask_bits_ops!(M64x8, 0xff);
 
 impl Real for F64x8 {
     type Mask = M64x8;

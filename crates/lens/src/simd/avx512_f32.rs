@@ -9,9 +9,8 @@
 //! invariant, as in [`super::avx512`]).
 
 use crate::simd::avx512::F64x8;
-use crate::simd::lanes::{Mask, Real, RingRows, SIGN32};
+use crate::simd::lanes::{Real, RingRows, SIGN32};
 use std::arch::x86_64::*;
-use std::ops::{Add, BitAnd, BitOr, Div, Mul, Neg, Not, Sub};
 
 /// Sixteen f32 lanes.
 #[derive(Clone, Copy)]
@@ -75,66 +74,9 @@ impl F32x16 {
     }
 }
 
-macro_rules! binary {
-    ($trait:ident, $method:ident, $intrinsic:ident) => {
-        impl $trait for F32x16 {
-            type Output = F32x16;
-            #[inline(always)]
-            fn $method(self, o: F32x16) -> F32x16 {
-                // SAFETY: AVX-512F is available (module invariant).
-                F32x16(unsafe { $intrinsic(self.0, o.0) })
-            }
-        }
-    };
-}
-
-binary!(Add, add, _mm512_add_ps);
-binary!(Sub, sub, _mm512_sub_ps);
-binary!(Mul, mul, _mm512_mul_ps);
-binary!(Div, div, _mm512_div_ps);
-
-impl Neg for F32x16 {
-    type Output = F32x16;
-    #[inline(always)]
-    fn neg(self) -> F32x16 {
-        self.xor(F32x16::splat(-0.0))
-    }
-}
-
-impl BitAnd for M32x16 {
-    type Output = M32x16;
-    #[inline(always)]
-    fn bitand(self, o: M32x16) -> M32x16 {
-        M32x16(self.0 & o.0)
-    }
-}
-
-impl BitOr for M32x16 {
-    type Output = M32x16;
-    #[inline(always)]
-    fn bitor(self, o: M32x16) -> M32x16 {
-        M32x16(self.0 | o.0)
-    }
-}
-
-impl Not for M32x16 {
-    type Output = M32x16;
-    #[inline(always)]
-    fn not(self) -> M32x16 {
-        M32x16(!self.0)
-    }
-}
-
-impl Mask for M32x16 {
-    #[inline(always)]
-    fn all_true() -> Self {
-        M32x16(0xffff)
-    }
-    #[inline(always)]
-    fn any(self) -> bool {
-        self.0 != 0
-    }
-}
+lane_ops!(F32x16: Add add _mm512_add_ps, Sub sub _mm512_sub_ps, Mul mul _mm512_mul_ps, Div div _mm512_div_ps);
+lane_neg!(F32x16);
+mask_bits_ops!(M32x16, 0xffff);
 
 impl Real for F32x16 {
     type Mask = M32x16;

@@ -87,130 +87,78 @@ impl Mask for bool {
     }
 }
 
-impl Real for f64 {
-    type Mask = bool;
+/// [`Real`] for the one-ray scalar `$t` (`f64`, or `f32` for an asphere's
+/// start), its sign bit `$sign`; `$t` from an f64 as
+/// `$from` gives it (rounded to nearest for `f32`, as the vector types'
+/// conversions).
+macro_rules! scalar_real {
+    ($t:ident, $sign:expr, |$v:ident| $from:expr) => {
+        impl Real for $t {
+            type Mask = bool;
+            type F32 = f32;
 
-    #[inline(always)]
-    fn splat(v: f64) -> Self {
-        v
-    }
-    #[inline(always)]
-    fn fma(self, a: Self, b: Self) -> Self {
-        f64::mul_add(self, a, b)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f64::sqrt(self)
-    }
-    #[inline(always)]
-    fn sign_bit(self) -> Self {
-        f64::from_bits(self.to_bits() & SIGN)
-    }
-    #[inline(always)]
-    fn xor(self, o: Self) -> Self {
-        f64::from_bits(self.to_bits() ^ o.to_bits())
-    }
-    #[inline(always)]
-    fn or(self, o: Self) -> Self {
-        f64::from_bits(self.to_bits() | o.to_bits())
-    }
-    #[inline(always)]
-    fn is_finite(self) -> bool {
-        self.abs() < f64::INFINITY
-    }
-    #[inline(always)]
-    fn is_neg(self) -> bool {
-        self.is_sign_negative()
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f64::abs(self)
-    }
-    #[inline(always)]
-    fn le(self, o: Self) -> bool {
-        self <= o
-    }
-    #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        if m {
-            a
-        } else {
-            b
+            #[inline(always)]
+            fn splat($v: f64) -> Self {
+                $from
+            }
+            #[inline(always)]
+            fn fma(self, a: Self, b: Self) -> Self {
+                $t::mul_add(self, a, b)
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $t::sqrt(self)
+            }
+            #[inline(always)]
+            fn sign_bit(self) -> Self {
+                $t::from_bits(self.to_bits() & $sign)
+            }
+            #[inline(always)]
+            fn xor(self, o: Self) -> Self {
+                $t::from_bits(self.to_bits() ^ o.to_bits())
+            }
+            #[inline(always)]
+            fn or(self, o: Self) -> Self {
+                $t::from_bits(self.to_bits() | o.to_bits())
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                self.abs() < $t::INFINITY
+            }
+            #[inline(always)]
+            fn is_neg(self) -> bool {
+                self.is_sign_negative()
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                $t::abs(self)
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> bool {
+                self <= o
+            }
+            #[inline(always)]
+            fn select(m: bool, a: Self, b: Self) -> Self {
+                if m {
+                    a
+                } else {
+                    b
+                }
+            }
+            #[inline(always)]
+            fn from_mask(m: bool) -> Self {
+                if m {
+                    -1.0
+                } else {
+                    1.0
+                }
+            }
         }
-    }
-    #[inline(always)]
-    fn from_mask(m: bool) -> Self {
-        if m {
-            -1.0
-        } else {
-            1.0
-        }
-    }
-    type F32 = f32;
+    };
 }
 
-impl Real for f32 {
-    type Mask = bool;
-    type F32 = f32;
-
-    #[inline(always)]
-    fn splat(v: f64) -> Self {
-        // rounded to nearest, as the vector types' conversions
-        v as f32
-    }
-    #[inline(always)]
-    fn fma(self, a: Self, b: Self) -> Self {
-        f32::mul_add(self, a, b)
-    }
-    #[inline(always)]
-    fn sqrt(self) -> Self {
-        f32::sqrt(self)
-    }
-    #[inline(always)]
-    fn sign_bit(self) -> Self {
-        f32::from_bits(self.to_bits() & SIGN32)
-    }
-    #[inline(always)]
-    fn xor(self, o: Self) -> Self {
-        f32::from_bits(self.to_bits() ^ o.to_bits())
-    }
-    #[inline(always)]
-    fn or(self, o: Self) -> Self {
-        f32::from_bits(self.to_bits() | o.to_bits())
-    }
-    #[inline(always)]
-    fn is_finite(self) -> bool {
-        self.abs() < f32::INFINITY
-    }
-    #[inline(always)]
-    fn is_neg(self) -> bool {
-        self.is_sign_negative()
-    }
-    #[inline(always)]
-    fn abs(self) -> Self {
-        f32::abs(self)
-    }
-    #[inline(always)]
-    fn le(self, o: Self) -> bool {
-        self <= o
-    }
-    #[inline(always)]
-    fn select(m: bool, a: Self, b: Self) -> Self {
-        if m {
-            a
-        } else {
-            b
-        }
-    }
-    #[inline(always)]
-    fn from_mask(m: bool) -> Self {
-        if m {
-            -1.0
-        } else {
-            1.0
-        }
-    }
-}
+scalar_real!(f64, SIGN, |v| v);
+scalar_real!(f32, SIGN32, |v| v as f32);
 
 impl RingRows for f32 {
     #[inline(always)]

@@ -1,8 +1,9 @@
 //! The aspheric surface step: the ray's intersection with a conic plus
-//! polynomial terms by Newton's method, started from the conic's exact
-//! root, and refraction at the exact normal there. Written once over the
-//! lane type, as the sphere step (`step.rs`), so the one-ray and the batch
-//! paths agree bit for bit; docs/architecture.md gives the method.
+//! polynomial terms by Newton's method, started from a conic's root near
+//! the surface (made in f32: `StartLanes`), and refraction at the exact
+//! normal there. Written once over the lane type, as the sphere step
+//! (`step.rs`), so the one-ray and the batch paths agree bit for bit;
+//! docs/architecture.md gives the method.
 //!
 //! The sag is z(r) = c r^2 / (1 + sqrt(1 - (1 + k) c^2 r^2)) + sum_j a_j r^j
 //! ([`crate::model::surface::Asphere`]). With the ray at `q + u d` (`q` where

@@ -67,7 +67,9 @@ const ODD_ASPHERIC: &str = r#"{"surfaces": [
 ]}"#;
 
 /// The batch (AVX2) gives the one-ray path's bits on aspheric lenses, for
-/// rays that pass, are blocked, miss or start off-axis at wild angles.
+/// rays that pass, are blocked, miss or start off-axis at wild angles, and
+/// rays from 0.3 to 100 m away beside them (an asphere's start moves those
+/// near its vertex plane first).
 #[test]
 fn batch_is_bit_for_bit_the_one_ray_path_on_aspheres() {
     batch_is_the_one_ray_path_on(ASPHERIC);
@@ -79,10 +81,17 @@ fn batch_is_the_one_ray_path_on(json: &str) {
     let t = Tracer::forward(&p);
     let mut rays = Vec::new();
     let mut next = common::uniform(0x9e37_79b9_7f4a_7c15);
-    for _ in 0..4001 {
+    for i in 0..4001 {
         let o = DVec3::new(30.0 * (next() - 0.5), 30.0 * (next() - 0.5), -10.0);
         let d = DVec3::new(0.6 * (next() - 0.5), 0.6 * (next() - 0.5), 1.0);
-        rays.push(Ray::new(o, d).unwrap());
+        let far = [300.0, 3000.0, 1e5][i % 3];
+        if i % 4 == 1 {
+            // from `far` mm away towards a point near the first vertex
+            let from = DVec3::new(o.x - far * d.x, o.y - far * d.y, -10.0 - far);
+            rays.push(Ray::new(from, d).unwrap());
+        } else {
+            rays.push(Ray::new(o, d).unwrap());
+        }
     }
     let mut batch = RayBatch::with_capacity(rays.len());
     rays.iter().for_each(|r| batch.push(*r));

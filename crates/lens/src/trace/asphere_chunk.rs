@@ -9,16 +9,16 @@
 //! lane takes the one-ray path's steps and the bits agree.
 
 use super::asphere::{
-    asphere_carry, by_asphere_kind, conic_only_root, conic_only_start, conic_root_of, hit_with_normal, newton_eval,
-    newton_finish, newton_hit, newton_running, newton_start_at, ring_conic, ring_or_start, start_root, start_u,
-    zones_of, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic, MAX_NEWTON_STEPS,
+    asphere_carry, by_asphere_kind, conic_only_root, conic_only_start, conic_root_of, hit_with_normal, is_far,
+    newton_eval, newton_finish, newton_hit, newton_running, newton_start_at, ring_conic, ring_or_start, start_root,
+    start_u, to_vertex_plane, zones_of, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic, MAX_NEWTON_STEPS,
 };
 use super::batch::{get4, get6, load_rays, put_vectors, store_out, vectors_in, Bits, Rays4, Wide, CHUNK};
 use super::spectral::ChunkIndices;
 use super::step::{lanes_at, Step, StepLanes};
 use crate::simd::avx2::{F64x4, M64x4};
 use crate::simd::avx512::{F64x8, M64x8};
-use crate::simd::lanes::Real;
+use crate::simd::lanes::{Mask, Real};
 
 /// [`asphere_chunk`] for the surface `a`'s kind of step, `W::N` rays a
 /// vector over the chunk's first `n` vectors ([`Wide::asphere_kind`]).
@@ -57,15 +57,43 @@ fn put_start_conic<W: Wide>(nw: &mut NewtonScratch, q: usize, sc: StartConic<W::
 }
 
 /// The rays of vectors `2 q` and `2 q + 1` in the surface's frame (`shift`
-/// the step's), narrowed to f32 lanes: points and directions.
+/// the step's), narrowed to f32 lanes (points and directions), and whether
+/// some lane is far ([`is_far`]): then the far lanes' points are first moved
+/// along their rays to near the vertex plane, by `t0` ([`to_vertex_plane`],
+/// stored in each vector's state as `u`, 0 for the other lanes), which the
+/// start adds back.
 #[inline(always)]
-fn pair_rays<W: Wide>(src: &Rays4, shift: W, q: usize) -> ([W::F32; 3], [W::F32; 3]) {
+fn pair_rays<W: Wide>(src: &Rays4, shift: W, q: usize, nw: &mut NewtonScratch) -> ([W::F32; 3], [W::F32; 3], bool) {
     let (p0, d0, _) = load_rays::<W>(src, 2 * q);
     let (p1, d1, _) = load_rays::<W>(src, 2 * q + 1);
+    let (mut p0, mut p1) = ([p0[0], p0[1], p0[2] - shift], [p1[0], p1[1], p1[2] - shift]);
+    let (far0, far1) = (is_far(p0), is_far(p1));
+    let far = (far0 | far1).any();
+    if far {
+        let zero = W::splat(0.0);
+        let (t0, t1) = (W::select(far0, to_vertex_plane(p0, d0), zero), W::select(far1, to_vertex_plane(p1, d1), zero));
+        t0.put(&mut nw.state, 5 * (2 * q));
+        t1.put(&mut nw.state, 5 * (2 * q + 1));
+        p0 = [t0.fma(d0[0], p0[0]), t0.fma(d0[1], p0[1]), t0.fma(d0[2], p0[2])];
+        p1 = [t1.fma(d1[0], p1[0]), t1.fma(d1[1], p1[1]), t1.fma(d1[2], p1[2])];
+    }
     (
-        [W::narrow(p0[0], p1[0]), W::narrow(p0[1], p1[1]), W::narrow(p0[2] - shift, p1[2] - shift)],
+        [W::narrow(p0[0], p1[0]), W::narrow(p0[1], p1[1]), W::narrow(p0[2], p1[2])],
         [W::narrow(d0[0], d1[0]), W::narrow(d0[1], d1[1]), W::narrow(d0[2], d1[2])],
+        far,
     )
+}
+
+/// The start `u` of vector `j` (starting at `p`) from its f32 start `u32`
+/// widened: `t0 + u32` in its far lanes, where [`pair_rays`] moved the
+/// point by `t0`, if its pair has any (`far`).
+#[inline(always)]
+fn start_of_vector<W: Wide>(nw: &NewtonScratch, j: usize, p: [W; 3], u32: W, far: bool) -> W {
+    if far {
+        W::select(is_far(p), W::at(&nw.state, 5 * j) + u32, u32)
+    } else {
+        u32
+    }
 }
 
 /// What [`asphere_chunk`] keeps for each vector between its loops, the
@@ -287,12 +315,15 @@ pub(super) fn asphere_chunk<
         // the starts: short chains a pair instead of one long one
         let st = a.start();
         let pairs = n.div_ceil(2);
+        // the pairs with a lane far from the vertex plane ([`pair_rays`])
+        let mut far = 0u64;
         if let Some(z) = zones_of(a) {
             // the rings in one loop, their conics (permutes) in another:
             // measured faster at both widths than one loop
             // (docs/performance.md)
             for q in 0..pairs {
-                let (p, d) = pair_rays::<W>(src, sl.shift, q);
+                let (p, d, f) = pair_rays::<W>(src, sl.shift, q, nw);
+                far |= u64::from(f) << q;
                 nw.put_rays32::<W>(q, (p, d));
                 W::put32(z.ring(p, d), &mut nw.root, 6 * q);
             }
@@ -310,7 +341,8 @@ pub(super) fn asphere_chunk<
             }
         } else {
             for q in 0..pairs {
-                let (p, d) = pair_rays::<W>(src, sl.shift, q);
+                let (p, d, f) = pair_rays::<W>(src, sl.shift, q, nw);
+                far |= u64::from(f) << q;
                 nw.put_rays32::<W>(q, (p, d));
                 nw.put_root32::<W>(q, &start_root(st, p, d));
             }
@@ -318,13 +350,14 @@ pub(super) fn asphere_chunk<
         for q in 0..pairs {
             let (p32, d32) = nw.rays32::<W>(q);
             let (u0, u1) = W::widen(start_u(st, p32, d32, &nw.root32::<W>(q)));
+            let f = far >> q & 1 != 0;
             let (p, _) = ray(2 * q);
-            let first = newton_start_at(p, u0);
+            let first = newton_start_at(p, start_of_vector(nw, 2 * q, p, u0, f));
             nw.put_state::<W, THIRD>(2 * q, &first);
             live |= u64::from(newton_running(&first)) << (2 * q);
             if 2 * q + 1 < n {
                 let (p, _) = ray(2 * q + 1);
-                let second = newton_start_at(p, u1);
+                let second = newton_start_at(p, start_of_vector(nw, 2 * q + 1, p, u1, f));
                 nw.put_state::<W, THIRD>(2 * q + 1, &second);
                 live |= u64::from(newton_running(&second)) << (2 * q + 1);
             }

@@ -162,7 +162,7 @@ impl Real for F32x8 {
 
 impl RingRows for F32x8 {
     #[inline(always)]
-    fn rows32(_: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: Self) -> [Self; 3] {
+    fn rows32(_: &[[f32; 4]; 32], cols: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
         // SAFETY: AVX2 is available (module invariant); the index is
         // clamped to 0..=31 as the one-ray path's (max_ps gives 0 for a
         // NaN); a permute reads its three low bits, the blends the fourth
@@ -172,7 +172,23 @@ impl RingRows for F32x8 {
             let i = _mm256_cvttps_epi32(clamped);
             let bit3 = _mm256_castsi256_ps(_mm256_slli_epi32::<28>(i));
             let bit4 = _mm256_castsi256_ps(_mm256_slli_epi32::<27>(i));
-            [pick(&cols[0], i, bit3, bit4), pick(&cols[1], i, bit3, bit4), pick(&cols[2], i, bit3, bit4)]
+            [pick(cols[0], i, bit3, bit4), pick(cols[1], i, bit3, bit4), pick(cols[2], i, bit3, bit4)]
+        }
+    }
+    #[inline(always)]
+    fn rows128(_: &[[f32; 4]; 128], cols: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
+        // SAFETY: AVX2 is available (module invariant); the index is
+        // clamped to 0..=127 as the one-ray path's, so each gather reads
+        // inside its column (gathers measured faster here than a load per
+        // lane, and sixteen permutes a column would be more)
+        unsafe {
+            let clamped = _mm256_min_ps(_mm256_max_ps(at.0, _mm256_setzero_ps()), _mm256_set1_ps(127.0));
+            let i = _mm256_cvttps_epi32(clamped);
+            [
+                F32x8(_mm256_i32gather_ps::<4>(cols[0].as_ptr(), i)),
+                F32x8(_mm256_i32gather_ps::<4>(cols[1].as_ptr(), i)),
+                F32x8(_mm256_i32gather_ps::<4>(cols[2].as_ptr(), i)),
+            ]
         }
     }
 }
@@ -214,8 +230,8 @@ mod tests {
         if !(std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")) {
             return;
         }
-        let rows: [[f32; 4]; 32] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
-        let cols: [[f32; 32]; 3] = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
+        let rows: [[f32; 4]; 128] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
+        let cols: [[f32; 128]; 3] = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
         let at = [
             -5.0,
             0.0,
@@ -232,15 +248,24 @@ mod tests {
             f32::INFINITY,
             f32::NEG_INFINITY,
             f32::NAN,
+            63.5,
+            64.0,
+            100.2,
+            127.0,
+            127.9,
+            200.0,
         ];
         for start in 0..at.len() {
             let lanes: [f32; 8] = std::array::from_fn(|j| at[(start + j) % at.len()]);
             // SAFETY: the CPU has AVX2 and FMA (checked above).
-            let got = unsafe { rows_of(&rows, &cols, &lanes) };
+            let (got32, got128) = unsafe { rows_of(&rows, &cols, &lanes) };
             for (j, a) in lanes.iter().enumerate() {
-                let want = f32::rows32(&rows, &cols, *a);
+                let (rows32, cols32) = first32(&rows, &cols);
+                let want32 = f32::rows32(rows32, cols32, *a);
+                let want128 = f32::rows128(&rows, [&cols[0], &cols[1], &cols[2]], *a);
                 for k in 0..3 {
-                    assert_eq!(got[k][j].to_bits(), want[k].to_bits(), "lane {j} at {a}");
+                    assert_eq!(got32[k][j].to_bits(), want32[k].to_bits(), "32 rows, lane {j} at {a}");
+                    assert_eq!(got128[k][j].to_bits(), want128[k].to_bits(), "128 rows, lane {j} at {a}");
                 }
             }
         }
@@ -253,19 +278,31 @@ mod tests {
         }
     }
 
-    /// [`F32x8::rows32`] at `at`, stored.
+    /// The first 32 rows of a table of 128, by rows and by columns.
+    fn first32<'a>(rows: &'a [[f32; 4]; 128], cols: &'a [[f32; 128]; 3]) -> (&'a [[f32; 4]; 32], [&'a [f32; 32]; 3]) {
+        let first = |c: &'a [f32; 128]| c.first_chunk::<32>().expect("32 of 128");
+        (rows.first_chunk().expect("32 of 128"), [first(&cols[0]), first(&cols[1]), first(&cols[2])])
+    }
+
+    /// [`F32x8::rows32`] (of the first 32 rows) and [`F32x8::rows128`] at
+    /// `at`, stored.
     ///
     /// # Safety
     ///
-    /// The CPU must have AVX2 and FMA.
+    /// The CPU must have the module's target features.
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn rows_of(rows: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: &[f32; 8]) -> [[f32; 8]; 3] {
-        // SAFETY: AVX is available (this function's).
+    unsafe fn rows_of(rows: &[[f32; 4]; 128], cols: &[[f32; 128]; 3], at: &[f32; 8]) -> ([[f32; 8]; 3], [[f32; 8]; 3]) {
+        // SAFETY: the module's target features are this function's.
         let v = F32x8(unsafe { _mm256_loadu_ps(at.as_ptr()) });
-        let mut out = [[0.0; 8]; 3];
-        for (o, r) in out.iter_mut().zip(F32x8::rows32(rows, cols, v)) {
-            // SAFETY: as above; `o` has eight lanes.
-            unsafe { _mm256_storeu_ps(o.as_mut_ptr(), r.0) };
+        let (rows32, cols32) = first32(rows, cols);
+        let mut out = ([[0.0; 8]; 3], [[0.0; 8]; 3]);
+        let got = (F32x8::rows32(rows32, cols32, v), F32x8::rows128(rows, [&cols[0], &cols[1], &cols[2]], v));
+        for k in 0..3 {
+            // SAFETY: as above; each output has 8 lanes.
+            unsafe {
+                _mm256_storeu_ps(out.0[k].as_mut_ptr(), got.0[k].0);
+                _mm256_storeu_ps(out.1[k].as_mut_ptr(), got.1[k].0);
+            }
         }
         out
     }

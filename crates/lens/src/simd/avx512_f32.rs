@@ -153,17 +153,40 @@ impl Real for F32x16 {
 
 impl RingRows for F32x16 {
     #[inline(always)]
-    fn rows32(_: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: Self) -> [Self; 3] {
+    fn rows32(_: &[[f32; 4]; 32], cols: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
         // SAFETY: AVX-512F is available (module invariant); the index is
         // clamped to 0..=31 as the one-ray path's (max_ps gives 0 for a
         // NaN), and a two-register permute reads its five low bits: one
         // instruction a column.
         unsafe {
-            let clamped = _mm512_min_ps(_mm512_max_ps(at.0, _mm512_setzero_ps()), _mm512_set1_ps(31.0));
-            let i = _mm512_cvttps_epi32(clamped);
-            [pick(&cols[0], i), pick(&cols[1], i), pick(&cols[2], i)]
+            let i = index(at, 31.0);
+            [pick(cols[0], i), pick(cols[1], i), pick(cols[2], i)]
         }
     }
+    #[inline(always)]
+    fn rows128(_: &[[f32; 4]; 128], cols: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
+        // SAFETY: as in rows32, the index clamped to 0..=127: four
+        // permutes of 32 entries a column, blended by its sixth and seventh
+        // bits.
+        unsafe {
+            let i = index(at, 127.0);
+            let b5 = _mm512_test_epi32_mask(i, _mm512_set1_epi32(32));
+            let b6 = _mm512_test_epi32_mask(i, _mm512_set1_epi32(64));
+            [pick128(cols[0], i, b5, b6), pick128(cols[1], i, b5, b6), pick128(cols[2], i, b5, b6)]
+        }
+    }
+}
+
+/// `at` clamped to `0..=last` (NaN to 0, as `max_ps` gives its second
+/// operand) and truncated.
+///
+/// # Safety
+///
+/// AVX-512F must be available (module invariant).
+#[inline(always)]
+unsafe fn index(at: F32x16, last: f32) -> __m512i {
+    // SAFETY: the caller's.
+    unsafe { _mm512_cvttps_epi32(_mm512_min_ps(_mm512_max_ps(at.0, _mm512_setzero_ps()), _mm512_set1_ps(last))) }
 }
 
 /// Entry `i` (its five low bits) of `col` in each lane. A function, not a
@@ -182,6 +205,26 @@ unsafe fn pick(col: &[f32; 32], i: __m512i) -> F32x16 {
     }
 }
 
+/// Entry `i` (its seven low bits; the sixth and seventh also in `b5`,
+/// `b6`) of `col` in each lane.
+///
+/// # Safety
+///
+/// AVX-512F must be available (module invariant).
+#[inline(always)]
+unsafe fn pick128(col: &[f32; 128], i: __m512i, b5: __mmask16, b6: __mmask16) -> F32x16 {
+    // SAFETY: AVX-512F is available (the caller's); each load reads 16 of
+    // the column's 128 numbers.
+    unsafe {
+        let p = col.as_ptr();
+        let a = _mm512_permutex2var_ps(_mm512_loadu_ps(p), i, _mm512_loadu_ps(p.add(16)));
+        let b = _mm512_permutex2var_ps(_mm512_loadu_ps(p.add(32)), i, _mm512_loadu_ps(p.add(48)));
+        let c = _mm512_permutex2var_ps(_mm512_loadu_ps(p.add(64)), i, _mm512_loadu_ps(p.add(80)));
+        let d = _mm512_permutex2var_ps(_mm512_loadu_ps(p.add(96)), i, _mm512_loadu_ps(p.add(112)));
+        F32x16(_mm512_mask_blend_ps(b6, _mm512_mask_blend_ps(b5, a, b), _mm512_mask_blend_ps(b5, c, d)))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -195,18 +238,40 @@ mod tests {
         if !(std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512vl")) {
             return;
         }
-        let rows: [[f32; 4]; 32] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
-        let cols: [[f32; 32]; 3] = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
-        let at =
-            [-5.0, 0.0, 0.99, 7.5, 15.999, 16.0, 31.0, 31.7, 40.0, f32::INFINITY, f32::NEG_INFINITY, f32::NAN, 23.2];
+        let rows: [[f32; 4]; 128] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
+        let cols: [[f32; 128]; 3] = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
+        let at = [
+            -5.0,
+            0.0,
+            0.99,
+            7.5,
+            15.999,
+            16.0,
+            31.0,
+            31.7,
+            40.0,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::NAN,
+            23.2,
+            63.5,
+            64.0,
+            100.2,
+            127.0,
+            127.9,
+            200.0,
+        ];
         for start in 0..at.len() {
             let lanes: [f32; 16] = std::array::from_fn(|j| at[(start + j) % at.len()]);
             // SAFETY: the CPU has AVX-512F and VL (checked above).
-            let got = unsafe { rows_of(&rows, &cols, &lanes) };
+            let (got32, got128) = unsafe { rows_of(&rows, &cols, &lanes) };
             for (j, a) in lanes.iter().enumerate() {
-                let want = f32::rows32(&rows, &cols, *a);
+                let (rows32, cols32) = first32(&rows, &cols);
+                let want32 = f32::rows32(rows32, cols32, *a);
+                let want128 = f32::rows128(&rows, [&cols[0], &cols[1], &cols[2]], *a);
                 for k in 0..3 {
-                    assert_eq!(got[k][j].to_bits(), want[k].to_bits(), "lane {j} at {a}");
+                    assert_eq!(got32[k][j].to_bits(), want32[k].to_bits(), "32 rows, lane {j} at {a}");
+                    assert_eq!(got128[k][j].to_bits(), want128[k].to_bits(), "128 rows, lane {j} at {a}");
                 }
             }
         }
@@ -221,19 +286,35 @@ mod tests {
         }
     }
 
-    /// [`F32x16::rows32`] at `at`, stored.
+    /// The first 32 rows of a table of 128, by rows and by columns.
+    fn first32<'a>(rows: &'a [[f32; 4]; 128], cols: &'a [[f32; 128]; 3]) -> (&'a [[f32; 4]; 32], [&'a [f32; 32]; 3]) {
+        let first = |c: &'a [f32; 128]| c.first_chunk::<32>().expect("32 of 128");
+        (rows.first_chunk().expect("32 of 128"), [first(&cols[0]), first(&cols[1]), first(&cols[2])])
+    }
+
+    /// [`F32x16::rows32`] (of the first 32 rows) and [`F32x16::rows128`] at
+    /// `at`, stored.
     ///
     /// # Safety
     ///
-    /// The CPU must have AVX2, AVX-512F and AVX-512VL.
+    /// The CPU must have the module's target features.
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-    unsafe fn rows_of(rows: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: &[f32; 16]) -> [[f32; 16]; 3] {
-        // SAFETY: AVX-512F is available (this function's).
+    unsafe fn rows_of(
+        rows: &[[f32; 4]; 128],
+        cols: &[[f32; 128]; 3],
+        at: &[f32; 16],
+    ) -> ([[f32; 16]; 3], [[f32; 16]; 3]) {
+        // SAFETY: the module's target features are this function's.
         let v = F32x16(unsafe { _mm512_loadu_ps(at.as_ptr()) });
-        let mut out = [[0.0; 16]; 3];
-        for (o, r) in out.iter_mut().zip(F32x16::rows32(rows, cols, v)) {
-            // SAFETY: as above; `o` has sixteen lanes.
-            unsafe { _mm512_storeu_ps(o.as_mut_ptr(), r.0) };
+        let (rows32, cols32) = first32(rows, cols);
+        let mut out = ([[0.0; 16]; 3], [[0.0; 16]; 3]);
+        let got = (F32x16::rows32(rows32, cols32, v), F32x16::rows128(rows, [&cols[0], &cols[1], &cols[2]], v));
+        for k in 0..3 {
+            // SAFETY: as above; each output has 16 lanes.
+            unsafe {
+                _mm512_storeu_ps(out.0[k].as_mut_ptr(), got.0[k].0);
+                _mm512_storeu_ps(out.1[k].as_mut_ptr(), got.1[k].0);
+            }
         }
         out
     }

@@ -57,7 +57,7 @@ pub(crate) trait Real:
     type F32: Real + RingRows;
 }
 
-/// The f32 lanes that read a ring's conic from a table of 32 rows
+/// The f32 lanes that read a ring's conic from a table of 32 or 128 rows
 /// (`trace/zones.rs`).
 pub(crate) trait RingRows: Real {
     /// The first three numbers of row `i` of a table of 32 rows in each
@@ -65,7 +65,10 @@ pub(crate) trait RingRows: Real {
     /// truncated; `cols` is the same table by columns (`cols[k][i] =
     /// rows[i][k]`), which the vector types read with permutes instead of a
     /// load per lane.
-    fn rows32(rows: &[[f32; 4]; 32], cols: &[[f32; 32]; 3], at: Self) -> [Self; 3];
+    fn rows32(rows: &[[f32; 4]; 32], cols: [&[f32; 32]; 3], at: Self) -> [Self; 3];
+    /// [`Self::rows32`] for a table of 128 rows (`at` clamped to
+    /// `0..=127`).
+    fn rows128(rows: &[[f32; 4]; 128], cols: [&[f32; 128]; 3], at: Self) -> [Self; 3];
 }
 
 /// Truth values, one per lane.
@@ -162,9 +165,14 @@ scalar_real!(f32, SIGN32, |v| v as f32);
 
 impl RingRows for f32 {
     #[inline(always)]
-    fn rows32(rows: &[[f32; 4]; 32], _: &[[f32; 32]; 3], at: Self) -> [Self; 3] {
+    fn rows32(rows: &[[f32; 4]; 32], _: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
         // `as` truncates, and takes a NaN to 0
         let [a, b, c, _] = rows[at.clamp(0.0, 31.0) as usize];
+        [a, b, c]
+    }
+    #[inline(always)]
+    fn rows128(rows: &[[f32; 4]; 128], _: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
+        let [a, b, c, _] = rows[at.clamp(0.0, 127.0) as usize];
         [a, b, c]
     }
 }

@@ -1082,7 +1082,8 @@ mod tests {
     /// 2.93 mm clear radius: a wavy field flattener): its rays take
     /// third-order steps from its rings' conics (osculating conics and
     /// tangent paraboloids), many one step at up to 17 degrees; from its
-    /// base conic almost every ray takes two or more. Every hit lies on the
+    /// base conic almost every ray takes two or more. Too many of 32 rings
+    /// miss it by more than 1e-4 mm, so it has 128. Every hit lies on the
     /// sag to 1e-12 mm and where the base conic's start puts it.
     #[test]
     fn rings_start_a_wavy_odd_asphere() {
@@ -1097,12 +1098,13 @@ mod tests {
         let plain = AsphereLanes::<f64>::of(c, &phone, f64::INFINITY);
         assert!(ringed.third_order() && ringed.odd() && ringed.chain_terms() == 5);
         let zones = ringed.start.zones.as_ref().expect("rings");
-        assert!(zones.own_conics() > 20, "{} rings with their own conic", zones.own_conics());
+        assert_eq!(zones.count(), super::super::zones::FINE_ZONES);
+        assert!(zones.own_conics() > 100, "{} rings with their own conic", zones.own_conics());
         let (one_ringed, one_plain) =
             one_step_rays::<true, 5>(&phone, c, sd, [&ringed, &plain], (0.98 * sd, 0.3, 0.2), 0xfee1);
-        // 983 and 5 of 2000 when written (28 of the 32 rings with a conic
-        // of their own)
-        assert!(one_ringed > 800, "{one_ringed} of 2000 took one step from the rings");
+        // 1261 and 5 of 2000 when written (126 of the 128 rings with a
+        // conic of their own; 983 from 32 rings)
+        assert!(one_ringed > 1150, "{one_ringed} of 2000 took one step from the rings");
         assert!(one_plain < 40, "{one_plain} of 2000 took one step from the base conic");
     }
 

@@ -6,7 +6,8 @@
 //! odd and even terms to r^10) is too far from that conic for one Newton
 //! step from its root to end within the tolerance, and every ray takes two
 //! or more. Instead the clear aperture is cut into [`ZONES`] rings of equal
-//! steps in s = r^2, and each ring gets the conic (with its vertex moved
+//! steps in s = r^2 ([`FINE_ZONES`] where too many of those fit poorly:
+//! [`FINE_FROM_RINGS`]), and each ring gets the conic (with its vertex moved
 //! along the axis) that osculates the surface, as a function of s, at the
 //! ring's middle: same sag, dz/ds and d2z/ds2 (or, where that conic does
 //! not exist or fits worse, the paraboloid tangent to the surface there: a
@@ -31,6 +32,20 @@ use crate::simd::lanes::{Real, RingRows};
 /// Rings of the clear aperture, of equal steps in s = r^2.
 pub(crate) const ZONES: usize = 32;
 
+/// Rings of a surface that [`ZONES`] rings fit poorly in more than
+/// [`FINE_FROM_RINGS`] of them (a phone lens's wavy tenth-order surfaces):
+/// rays start nearer the surface, and more end in one pass instead of two.
+pub(crate) const FINE_ZONES: usize = 128;
+
+/// A surface more than this many of whose [`ZONES`] rings' conics (or,
+/// where a ring keeps it, its start conic) miss it by more than [`FIT_MM`]
+/// over the ring and its neighbours gets [`FINE_ZONES`] rings instead: a
+/// ray in such a ring takes a second step, and with it its vector (a
+/// phone lens's surfaces have three to twenty such rings; a camera
+/// asphere's none to two, at the rim, and the finer rings' look-up would
+/// cost it more than they save).
+pub const FINE_FROM_RINGS: usize = ZONES / 8;
+
 /// A surface whose start conic is within this of it (mm, over the clear
 /// aperture) starts its rays from that conic: one step from there ends the
 /// iteration already.
@@ -45,14 +60,17 @@ pub const FIT_MM: f64 = 1e-4;
 /// `c s - 2 w + (1 + k) c w^2 = 0` in `w = z - z0`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Zones {
-    /// `ZONES / sd^2`, 1/mm^2: s times this is a ray's ring (truncated).
+    /// The rings: [`ZONES`] or [`FINE_ZONES`]; the tables' rows past them
+    /// are unused.
+    count: usize,
+    /// `count / sd^2`, 1/mm^2: s times this is a ray's ring (truncated).
     per_s: f64,
-    rows: [[f64; 4]; ZONES],
+    rows: [[f64; 4]; FINE_ZONES],
     /// The rows rounded to f32, which the start reads (it is computed in
     /// f32: `trace/asphere.rs`), as rows and by columns (`cols[k][i] =
     /// rows[i][k]`, k < 3).
-    rows32: [[f32; 4]; ZONES],
-    cols32: [[f32; ZONES]; 3],
+    rows32: [[f32; 4]; FINE_ZONES],
+    cols32: [[f32; FINE_ZONES]; 3],
 }
 
 /// An asphere's sag and its first two derivatives in s = r^2.
@@ -128,7 +146,13 @@ impl Zones {
     /// from the surface's start conic, whose vertex is not shifted).
     #[cfg(test)]
     pub(crate) fn own_conics(&self) -> usize {
-        self.rows.iter().filter(|r| r[2] != 0.0).count()
+        self.rows[..self.count].iter().filter(|r| r[2] != 0.0).count()
+    }
+
+    /// How many rings.
+    #[cfg(test)]
+    pub(crate) fn count(&self) -> usize {
+        self.count
     }
 
     /// The rings of the asphere `asphere` on a base of curvature `c` with
@@ -149,11 +173,34 @@ impl Zones {
         if !far {
             return None;
         }
-        let width = sd2 / ZONES as f64;
-        let mut zones =
-            Zones { per_s: 1.0 / width, rows: [start; ZONES], rows32: [[0.0; 4]; ZONES], cols32: [[0.0; ZONES]; 3] };
-        let mut any = false;
-        for (i, row) in zones.rows.iter_mut().enumerate() {
+        let (zones, any, poor) = Self::rings(&sag, start, sd2, ZONES);
+        if poor <= FINE_FROM_RINGS {
+            return any.then_some(zones);
+        }
+        let (fine, fine_any, _) = Self::rings(&sag, start, sd2, FINE_ZONES);
+        if fine_any {
+            Some(fine)
+        } else {
+            any.then_some(zones)
+        }
+    }
+
+    /// `count` rings of the surface `sag` over the clear radius squared
+    /// `sd2`, each with its conic or the start conic `start` ([`Self::of`]),
+    /// whether any has a conic of its own, and how many rings' conics lie
+    /// farther than [`FIT_MM`] from the surface over the ring and its
+    /// neighbours.
+    fn rings(sag: &Sag, start: [f64; 4], sd2: f64, count: usize) -> (Zones, bool, usize) {
+        let width = sd2 / count as f64;
+        let mut zones = Zones {
+            count,
+            per_s: 1.0 / width,
+            rows: [start; FINE_ZONES],
+            rows32: [[0.0; 4]; FINE_ZONES],
+            cols32: [[0.0; FINE_ZONES]; 3],
+        };
+        let (mut any, mut poor) = (false, 0);
+        for (i, row) in zones.rows[..count].iter_mut().enumerate() {
             let s = (i as f64 + 0.5) * width;
             // the ring and its neighbours
             let (lo, hi) = ((i as f64 - 1.0).max(0.0) * width, ((i + 2) as f64 * width).min(sd2));
@@ -176,12 +223,16 @@ impl Zones {
                     .filter_map(|k| worst(k).map(|w| (k, w)))
                     .min_by(|a, b| a.1.total_cmp(&b.1))
             });
+            let mut fit = own;
             if let Some(([ci, kci, z0], w)) = best {
                 if w <= FIT_MM || w < 0.1 * own {
                     *row = [ci, kci, z0, 0.0];
                     any = true;
+                    fit = w;
                 }
             }
+            // NaN (no fit) counts as poor
+            poor += usize::from(fit.is_nan() || fit > FIT_MM);
         }
         for (i, row) in zones.rows.iter().enumerate() {
             zones.rows32[i] = row.map(|v| v as f32);
@@ -189,7 +240,7 @@ impl Zones {
                 col[i] = *v as f32;
             }
         }
-        any.then_some(zones)
+        (zones, any, poor)
     }
 
     /// The conic `(c, k c, z0)` of each lane's ray `p + u d` (the surface's
@@ -221,9 +272,22 @@ impl Zones {
     /// The conic `(c, k c, z0)` of the ring [`Self::ring`] gave.
     #[inline(always)]
     pub(crate) fn of_ring<L: RingRows>(&self, ring: L) -> (L, L, L) {
-        let [c, kc, z0] = L::rows32(&self.rows32, &self.cols32, ring);
+        let [c, kc, z0] = if self.count == ZONES {
+            let [a, b, c] = &self.cols32;
+            L::rows32(self.rows32.first_chunk().expect("ZONES of FINE_ZONES"), [first(a), first(b), first(c)], ring)
+        } else {
+            let [a, b, c] = &self.cols32;
+            L::rows128(&self.rows32, [a, b, c], ring)
+        };
         (c, kc, z0)
     }
+}
+
+/// The first [`ZONES`] numbers of a column. A function, not a closure (one
+/// not inlined runs outside the batch's target features).
+#[inline(always)]
+fn first(col: &[f32; FINE_ZONES]) -> &[f32; ZONES] {
+    col.first_chunk().expect("ZONES of FINE_ZONES")
 }
 
 #[cfg(test)]
@@ -248,7 +312,7 @@ mod tests {
         let z = Zones::of(c, &canon, sd2, 0.0).expect("the asphere is far from its sphere");
         let sag = Sag { c, k1: 1.0, asphere: &canon };
         let w = sd2 / ZONES as f64;
-        for (i, [ci, kci, z0, _]) in z.rows.iter().enumerate() {
+        for (i, [ci, kci, z0, _]) in z.rows[..z.count].iter().enumerate() {
             assert!(*z0 != 0.0, "ring {i} has its own conic");
             for j in 0..=8 {
                 let s = (i as f64 + j as f64 / 8.0) * w;

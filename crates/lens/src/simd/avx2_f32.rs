@@ -220,6 +220,7 @@ unsafe fn pick(col: &[f32; 32], i: __m256i, bit3: __m256, bit4: __m256) -> F32x8
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::simd::lanes::ring_rows_check::{check, first32, table};
 
     /// The eight lanes' rows of a table of 32 are the one-ray path's for
     /// every index: inside, at and past both ends, fractional, infinite and
@@ -230,45 +231,9 @@ mod tests {
         if !(std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")) {
             return;
         }
-        let rows: [[f32; 4]; 128] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
-        let cols: [[f32; 128]; 3] = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
-        let at = [
-            -5.0,
-            0.0,
-            0.99,
-            7.5,
-            8.0,
-            15.999,
-            16.0,
-            23.5,
-            24.0,
-            31.0,
-            31.7,
-            40.0,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            f32::NAN,
-            63.5,
-            64.0,
-            100.2,
-            127.0,
-            127.9,
-            200.0,
-        ];
-        for start in 0..at.len() {
-            let lanes: [f32; 8] = std::array::from_fn(|j| at[(start + j) % at.len()]);
-            // SAFETY: the CPU has AVX2 and FMA (checked above).
-            let (got32, got128) = unsafe { rows_of(&rows, &cols, &lanes) };
-            for (j, a) in lanes.iter().enumerate() {
-                let (rows32, cols32) = first32(&rows, &cols);
-                let want32 = f32::rows32(rows32, cols32, *a);
-                let want128 = f32::rows128(&rows, [&cols[0], &cols[1], &cols[2]], *a);
-                for k in 0..3 {
-                    assert_eq!(got32[k][j].to_bits(), want32[k].to_bits(), "32 rows, lane {j} at {a}");
-                    assert_eq!(got128[k][j].to_bits(), want128[k].to_bits(), "128 rows, lane {j} at {a}");
-                }
-            }
-        }
+        let (rows, cols) = table();
+        // SAFETY: the CPU has the module's target features (checked above).
+        check::<8>(|lanes| unsafe { rows_of(&rows, &cols, lanes) });
         let wide = [1.0 + f64::EPSILON, -1e-40, 3.4e39, f64::NAN, 0.1, -2.5, 1e-3, 7.0];
         // SAFETY: as above.
         let (lo, hi) = unsafe { round_trip(&wide) };
@@ -276,12 +241,6 @@ mod tests {
             let got = if j < 4 { lo[j] } else { hi[j - 4] };
             assert_eq!(got.to_bits(), f64::from(*w as f32).to_bits(), "lane {j}: {w}");
         }
-    }
-
-    /// The first 32 rows of a table of 128, by rows and by columns.
-    fn first32<'a>(rows: &'a [[f32; 4]; 128], cols: &'a [[f32; 128]; 3]) -> (&'a [[f32; 4]; 32], [&'a [f32; 32]; 3]) {
-        let first = |c: &'a [f32; 128]| c.first_chunk::<32>().expect("32 of 128");
-        (rows.first_chunk().expect("32 of 128"), [first(&cols[0]), first(&cols[1]), first(&cols[2])])
     }
 
     /// [`F32x8::rows32`] (of the first 32 rows) and [`F32x8::rows128`] at

@@ -176,3 +176,73 @@ impl RingRows for f32 {
         [a, b, c]
     }
 }
+
+/// What the vector types' tests of [`RingRows`] share: a table, the
+/// indices to read it at, and the check against the one-ray rows.
+#[cfg(test)]
+pub(crate) mod ring_rows_check {
+    use super::RingRows;
+
+    /// A table of 128 rows (each row's numbers distinct), by rows and by
+    /// columns.
+    pub(crate) fn table() -> ([[f32; 4]; 128], [[f32; 128]; 3]) {
+        let rows: [[f32; 4]; 128] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
+        let cols = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
+        (rows, cols)
+    }
+
+    /// The first 32 rows of a table of 128, by rows and by columns.
+    pub(crate) fn first32<'a>(
+        rows: &'a [[f32; 4]; 128],
+        cols: &'a [[f32; 128]; 3],
+    ) -> (&'a [[f32; 4]; 32], [&'a [f32; 32]; 3]) {
+        let first = |c: &'a [f32; 128]| c.first_chunk::<32>().expect("32 of 128");
+        (rows.first_chunk().expect("32 of 128"), [first(&cols[0]), first(&cols[1]), first(&cols[2])])
+    }
+
+    /// Indices inside, at and past both ends of either table, fractional,
+    /// infinite and NaN (clamped to the table, NaN to row 0).
+    pub(crate) const AT: [f32; 21] = [
+        -5.0,
+        0.0,
+        0.99,
+        7.5,
+        8.0,
+        15.999,
+        16.0,
+        23.5,
+        24.0,
+        31.0,
+        31.7,
+        40.0,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        f32::NAN,
+        63.5,
+        64.0,
+        100.2,
+        127.0,
+        127.9,
+        200.0,
+    ];
+
+    /// Every window of `N` consecutive indices of [`AT`] (wrapping) read by
+    /// `read` (the 32-row table's rows, the 128-row table's, each as `N`
+    /// lanes a number) gives the one-ray path's rows lane for lane.
+    pub(crate) fn check<const N: usize>(read: impl Fn(&[f32; N]) -> ([[f32; N]; 3], [[f32; N]; 3])) {
+        let (rows, cols) = table();
+        let (rows32, cols32) = first32(&rows, &cols);
+        for start in 0..AT.len() {
+            let lanes: [f32; N] = std::array::from_fn(|j| AT[(start + j) % AT.len()]);
+            let (got32, got128) = read(&lanes);
+            for (j, a) in lanes.iter().enumerate() {
+                let want32 = f32::rows32(rows32, cols32, *a);
+                let want128 = f32::rows128(&rows, [&cols[0], &cols[1], &cols[2]], *a);
+                for k in 0..3 {
+                    assert_eq!(got32[k][j].to_bits(), want32[k].to_bits(), "32 rows, lane {j} at {a}");
+                    assert_eq!(got128[k][j].to_bits(), want128[k].to_bits(), "128 rows, lane {j} at {a}");
+                }
+            }
+        }
+    }
+}

@@ -162,7 +162,7 @@ impl Real for F32x8 {
 
 impl RingRows for F32x8 {
     #[inline(always)]
-    fn rows32(_: &[[f32; 4]; 32], cols: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
+    fn rows32(cols: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
         // SAFETY: AVX2 is available (module invariant); the index is
         // clamped to 0..=31 as the one-ray path's (max_ps gives 0 for a
         // NaN); a permute reads its three low bits, the blends the fourth
@@ -176,7 +176,7 @@ impl RingRows for F32x8 {
         }
     }
     #[inline(always)]
-    fn rows128(_: &[[f32; 4]; 128], cols: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
+    fn rows128(cols: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
         // SAFETY: AVX2 is available (module invariant); the index is
         // clamped to 0..=127 as the one-ray path's, so each gather reads
         // inside its column (gathers measured faster here than a load per
@@ -231,9 +231,9 @@ mod tests {
         if !(std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")) {
             return;
         }
-        let (rows, cols) = table();
+        let cols = table();
         // SAFETY: the CPU has the module's target features (checked above).
-        check::<8>(|lanes| unsafe { rows_of(&rows, &cols, lanes) });
+        check::<8>(|lanes| unsafe { rows_of(&cols, lanes) });
         let wide = [1.0 + f64::EPSILON, -1e-40, 3.4e39, f64::NAN, 0.1, -2.5, 1e-3, 7.0];
         // SAFETY: as above.
         let (lo, hi) = unsafe { round_trip(&wide) };
@@ -250,12 +250,11 @@ mod tests {
     ///
     /// The CPU must have the module's target features.
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn rows_of(rows: &[[f32; 4]; 128], cols: &[[f32; 128]; 3], at: &[f32; 8]) -> ([[f32; 8]; 3], [[f32; 8]; 3]) {
+    unsafe fn rows_of(cols: &[[f32; 128]; 3], at: &[f32; 8]) -> ([[f32; 8]; 3], [[f32; 8]; 3]) {
         // SAFETY: the module's target features are this function's.
         let v = F32x8(unsafe { _mm256_loadu_ps(at.as_ptr()) });
-        let (rows32, cols32) = first32(rows, cols);
         let mut out = ([[0.0; 8]; 3], [[0.0; 8]; 3]);
-        let got = (F32x8::rows32(rows32, cols32, v), F32x8::rows128(rows, [&cols[0], &cols[1], &cols[2]], v));
+        let got = (F32x8::rows32(first32(cols), v), F32x8::rows128(cols.each_ref(), v));
         for k in 0..3 {
             // SAFETY: as above; each output has 8 lanes.
             unsafe {

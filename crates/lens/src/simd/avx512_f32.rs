@@ -153,7 +153,7 @@ impl Real for F32x16 {
 
 impl RingRows for F32x16 {
     #[inline(always)]
-    fn rows32(_: &[[f32; 4]; 32], cols: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
+    fn rows32(cols: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
         // SAFETY: AVX-512F is available (module invariant); the index is
         // clamped to 0..=31 as the one-ray path's (max_ps gives 0 for a
         // NaN), and a two-register permute reads its five low bits: one
@@ -164,7 +164,7 @@ impl RingRows for F32x16 {
         }
     }
     #[inline(always)]
-    fn rows128(_: &[[f32; 4]; 128], cols: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
+    fn rows128(cols: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
         // SAFETY: as in rows32, the index clamped to 0..=127: four
         // permutes of 32 entries a column, blended by its sixth and seventh
         // bits.
@@ -239,9 +239,9 @@ mod tests {
         if !(std::arch::is_x86_feature_detected!("avx512f") && std::arch::is_x86_feature_detected!("avx512vl")) {
             return;
         }
-        let (rows, cols) = table();
+        let cols = table();
         // SAFETY: the CPU has the module's target features (checked above).
-        check::<16>(|lanes| unsafe { rows_of(&rows, &cols, lanes) });
+        check::<16>(|lanes| unsafe { rows_of(&cols, lanes) });
         let wide: [f64; 16] = std::array::from_fn(|j| {
             [1.0 + f64::EPSILON, -1e-40, 3.4e39, f64::NAN, 0.1, -2.5, 1e-3][j % 7] * (j + 1) as f64
         });
@@ -260,16 +260,11 @@ mod tests {
     ///
     /// The CPU must have the module's target features.
     #[target_feature(enable = "avx2,fma,avx512f,avx512vl")]
-    unsafe fn rows_of(
-        rows: &[[f32; 4]; 128],
-        cols: &[[f32; 128]; 3],
-        at: &[f32; 16],
-    ) -> ([[f32; 16]; 3], [[f32; 16]; 3]) {
+    unsafe fn rows_of(cols: &[[f32; 128]; 3], at: &[f32; 16]) -> ([[f32; 16]; 3], [[f32; 16]; 3]) {
         // SAFETY: the module's target features are this function's.
         let v = F32x16(unsafe { _mm512_loadu_ps(at.as_ptr()) });
-        let (rows32, cols32) = first32(rows, cols);
         let mut out = ([[0.0; 16]; 3], [[0.0; 16]; 3]);
-        let got = (F32x16::rows32(rows32, cols32, v), F32x16::rows128(rows, [&cols[0], &cols[1], &cols[2]], v));
+        let got = (F32x16::rows32(first32(cols), v), F32x16::rows128(cols.each_ref(), v));
         for k in 0..3 {
             // SAFETY: as above; each output has 16 lanes.
             unsafe {

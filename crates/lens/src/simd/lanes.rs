@@ -60,15 +60,13 @@ pub(crate) trait Real:
 /// The f32 lanes that read a ring's conic from a table of 32 or 128 rows
 /// (`trace/zones.rs`).
 pub(crate) trait RingRows: Real {
-    /// The first three numbers of row `i` of a table of 32 rows in each
-    /// lane, `i` the lane's `at` clamped to `0..=31` (NaN to 0) and
-    /// truncated; `cols` is the same table by columns (`cols[k][i] =
-    /// rows[i][k]`), which the vector types read with permutes instead of a
-    /// load per lane.
-    fn rows32(rows: &[[f32; 4]; 32], cols: [&[f32; 32]; 3], at: Self) -> [Self; 3];
-    /// [`Self::rows32`] for a table of 128 rows (`at` clamped to
-    /// `0..=127`).
-    fn rows128(rows: &[[f32; 4]; 128], cols: [&[f32; 128]; 3], at: Self) -> [Self; 3];
+    /// Row `i` of a table of three columns of 32 numbers in each lane
+    /// (`cols[k][i]` for each k), `i` the lane's `at` clamped to `0..=31`
+    /// (NaN to 0) and truncated: by columns, which the vector types read
+    /// with permutes instead of a load per lane.
+    fn rows32(cols: [&[f32; 32]; 3], at: Self) -> [Self; 3];
+    /// [`Self::rows32`] for columns of 128 (`at` clamped to `0..=127`).
+    fn rows128(cols: [&[f32; 128]; 3], at: Self) -> [Self; 3];
 }
 
 /// Truth values, one per lane.
@@ -165,15 +163,15 @@ scalar_real!(f32, SIGN32, |v| v as f32);
 
 impl RingRows for f32 {
     #[inline(always)]
-    fn rows32(rows: &[[f32; 4]; 32], _: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
+    fn rows32(cols: [&[f32; 32]; 3], at: Self) -> [Self; 3] {
         // `as` truncates, and takes a NaN to 0
-        let [a, b, c, _] = rows[at.clamp(0.0, 31.0) as usize];
-        [a, b, c]
+        let i = at.clamp(0.0, 31.0) as usize;
+        cols.map(|c| c[i])
     }
     #[inline(always)]
-    fn rows128(rows: &[[f32; 4]; 128], _: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
-        let [a, b, c, _] = rows[at.clamp(0.0, 127.0) as usize];
-        [a, b, c]
+    fn rows128(cols: [&[f32; 128]; 3], at: Self) -> [Self; 3] {
+        let i = at.clamp(0.0, 127.0) as usize;
+        cols.map(|c| c[i])
     }
 }
 
@@ -183,21 +181,19 @@ impl RingRows for f32 {
 pub(crate) mod ring_rows_check {
     use super::RingRows;
 
-    /// A table of 128 rows (each row's numbers distinct), by rows and by
-    /// columns.
-    pub(crate) fn table() -> ([[f32; 4]; 128], [[f32; 128]; 3]) {
-        let rows: [[f32; 4]; 128] = std::array::from_fn(|i| [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32, 0.0]);
-        let cols = std::array::from_fn(|k| std::array::from_fn(|i| rows[i][k]));
-        (rows, cols)
+    /// Row `i` of the table: numbers distinct in every row and column.
+    pub(crate) fn row(i: usize) -> [f32; 3] {
+        [i as f32 + 0.25, -(i as f32) * 3.0, 1e-3 * i as f32]
     }
 
-    /// The first 32 rows of a table of 128, by rows and by columns.
-    pub(crate) fn first32<'a>(
-        rows: &'a [[f32; 4]; 128],
-        cols: &'a [[f32; 128]; 3],
-    ) -> (&'a [[f32; 4]; 32], [&'a [f32; 32]; 3]) {
-        let first = |c: &'a [f32; 128]| c.first_chunk::<32>().expect("32 of 128");
-        (rows.first_chunk().expect("32 of 128"), [first(&cols[0]), first(&cols[1]), first(&cols[2])])
+    /// The table's 128 rows by columns.
+    pub(crate) fn table() -> [[f32; 128]; 3] {
+        std::array::from_fn(|k| std::array::from_fn(|i| row(i)[k]))
+    }
+
+    /// The first 32 rows of the table, by columns.
+    pub(crate) fn first32(cols: &[[f32; 128]; 3]) -> [&[f32; 32]; 3] {
+        cols.each_ref().map(|c| c.first_chunk::<32>().expect("32 of 128"))
     }
 
     /// Indices inside, at and past both ends of either table, fractional,
@@ -228,16 +224,18 @@ pub(crate) mod ring_rows_check {
 
     /// Every window of `N` consecutive indices of [`AT`] (wrapping) read by
     /// `read` (the 32-row table's rows, the 128-row table's, each as `N`
-    /// lanes a number) gives the one-ray path's rows lane for lane.
+    /// lanes a number) gives the one-ray path's rows lane for lane, and
+    /// those are the table's rows at the clamped index.
     pub(crate) fn check<const N: usize>(read: impl Fn(&[f32; N]) -> ([[f32; N]; 3], [[f32; N]; 3])) {
-        let (rows, cols) = table();
-        let (rows32, cols32) = first32(&rows, &cols);
+        let cols = table();
         for start in 0..AT.len() {
             let lanes: [f32; N] = std::array::from_fn(|j| AT[(start + j) % AT.len()]);
             let (got32, got128) = read(&lanes);
             for (j, a) in lanes.iter().enumerate() {
-                let want32 = f32::rows32(rows32, cols32, *a);
-                let want128 = f32::rows128(&rows, [&cols[0], &cols[1], &cols[2]], *a);
+                let want32 = f32::rows32(first32(&cols), *a);
+                let want128 = f32::rows128(cols.each_ref(), *a);
+                let clamped = |last: f32| if a.is_nan() { 0 } else { a.clamp(0.0, last) as usize };
+                assert_eq!((want32, want128), (row(clamped(31.0)), row(clamped(127.0))), "at {a}");
                 for k in 0..3 {
                     assert_eq!(got32[k][j].to_bits(), want32[k].to_bits(), "32 rows, lane {j} at {a}");
                     assert_eq!(got128[k][j].to_bits(), want128[k].to_bits(), "128 rows, lane {j} at {a}");

@@ -66,10 +66,9 @@ pub(crate) struct Zones {
     /// `count / sd^2`, 1/mm^2: s times this is a ray's ring (truncated).
     per_s: f64,
     rows: [[f64; 4]; FINE_ZONES],
-    /// The rows rounded to f32, which the start reads (it is computed in
-    /// f32: `trace/asphere.rs`), as rows and by columns (`cols[k][i] =
-    /// rows[i][k]`, k < 3).
-    rows32: [[f32; 4]; FINE_ZONES],
+    /// The rows' first three numbers rounded to f32, by columns
+    /// (`cols32[k][i] = rows[i][k]`): what the start reads (it is computed
+    /// in f32: `trace/asphere.rs`).
     cols32: [[f32; FINE_ZONES]; 3],
 }
 
@@ -192,13 +191,7 @@ impl Zones {
     /// neighbours.
     fn rings(sag: &Sag, start: [f64; 4], sd2: f64, count: usize) -> (Zones, bool, usize) {
         let width = sd2 / count as f64;
-        let mut zones = Zones {
-            count,
-            per_s: 1.0 / width,
-            rows: [start; FINE_ZONES],
-            rows32: [[0.0; 4]; FINE_ZONES],
-            cols32: [[0.0; FINE_ZONES]; 3],
-        };
+        let mut zones = Zones { count, per_s: 1.0 / width, rows: [start; FINE_ZONES], cols32: [[0.0; FINE_ZONES]; 3] };
         let (mut any, mut poor) = (false, 0);
         for (i, row) in zones.rows[..count].iter_mut().enumerate() {
             let s = (i as f64 + 0.5) * width;
@@ -235,7 +228,6 @@ impl Zones {
             poor += usize::from(fit.is_nan() || fit > FIT_MM);
         }
         for (i, row) in zones.rows.iter().enumerate() {
-            zones.rows32[i] = row.map(|v| v as f32);
             for (col, v) in zones.cols32.iter_mut().zip(row) {
                 col[i] = *v as f32;
             }
@@ -274,10 +266,10 @@ impl Zones {
     pub(crate) fn of_ring<L: RingRows>(&self, ring: L) -> (L, L, L) {
         let [c, kc, z0] = if self.count == ZONES {
             let [a, b, c] = &self.cols32;
-            L::rows32(self.rows32.first_chunk().expect("ZONES of FINE_ZONES"), [first(a), first(b), first(c)], ring)
+            L::rows32([first(a), first(b), first(c)], ring)
         } else {
             let [a, b, c] = &self.cols32;
-            L::rows128(&self.rows32, [a, b, c], ring)
+            L::rows128([a, b, c], ring)
         };
         (c, kc, z0)
     }

@@ -455,7 +455,7 @@ pub(crate) fn newton_start(a: &AsphereLanes<f64>, p: [f64; 3], d: [f64; 3]) -> N
     }
     let far = is_far(p);
     let t0 = if far { to_vertex_plane(p, d) } else { 0.0 };
-    let near = if far { [t0.mul_add(d[0], p[0]), t0.mul_add(d[1], p[1]), t0.mul_add(d[2], p[2])] } else { p };
+    let near = if far { along(p, d, t0) } else { p };
     let (p32, d32) = (near.map(|v| v as f32), d.map(|v| v as f32));
     let u = f64::from(start_u(&a.start, p32, d32, &start_root(&a.start, p32, d32)));
     newton_start_at(p, if far { t0 + u } else { u })
@@ -475,6 +475,13 @@ pub(crate) const FAR_MM: f64 = 64.0;
 #[inline(always)]
 pub(crate) fn is_far<L: Real>(p: [L; 3]) -> L::Mask {
     !p[2].abs().le(L::splat(FAR_MM))
+}
+
+/// The point `p + t d` of a ray, each coordinate one fused multiply-add
+/// (every path and stage computes its points so, for the same bits).
+#[inline(always)]
+pub(crate) fn along<L: Real>(p: [L; 3], d: [L; 3], t: L) -> [L; 3] {
+    [t.fma(d[0], p[0]), t.fma(d[1], p[1]), t.fma(d[2], p[2])]
 }
 
 /// About how far the ray `p + t d` goes to the asphere's vertex plane: `-pz
@@ -754,9 +761,7 @@ pub(crate) fn newton_eval<L: Real, const THIRD: bool, const ODD: bool, const TER
     st: &Newton<L>,
 ) -> NewtonEval<L> {
     let one = L::splat(1.0);
-    let x = st.u.fma(d[0], st.p[0]);
-    let y = st.u.fma(d[1], st.p[1]);
-    let z = st.u.fma(d[2], st.p[2]);
+    let [x, y, z] = along(st.p, d, st.u);
     let s = x.fma(x, y * y);
     let (pp, q, r) = a.poly_r::<ODD, TERMS>(s);
     let w = z - pp;
@@ -826,9 +831,7 @@ pub(crate) fn newton_hit<L: Real, const THIRD: bool, const ODD: bool, const TERM
     d: [L; 3],
     st: &Newton<L>,
 ) -> AsphereHit<L> {
-    let x = st.u.fma(d[0], st.p[0]);
-    let y = st.u.fma(d[1], st.p[1]);
-    let z = st.u.fma(d[2], st.p[2]);
+    let [x, y, z] = along(st.p, d, st.u);
     // a step the estimate ended may be up to ESTIMATE_FROM_MM long: the
     // normal is evaluated again at the hit (otherwise the last evaluation,
     // at most the tolerance away, is the hit's)
@@ -849,9 +852,7 @@ pub(crate) fn newton_hit<L: Real, const THIRD: bool, const ODD: bool, const TERM
 /// between its loops.
 #[inline(always)]
 pub(crate) fn hit_with_normal<L: Real>(d: [L; 3], st: &Newton<L>, n: [L; 3], r2: L) -> AsphereHit<L> {
-    let x = st.u.fma(d[0], st.p[0]);
-    let y = st.u.fma(d[1], st.p[1]);
-    let z = st.u.fma(d[2], st.p[2]);
+    let [x, y, z] = along(st.p, d, st.u);
     let near = !n[2].le(L::splat(0.0));
     let missed = st.missed;
     AsphereHit { t: st.u, x, y, z, r2, n, ok: !missed & near, converged: st.converged & !missed }

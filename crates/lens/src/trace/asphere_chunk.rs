@@ -9,7 +9,7 @@
 //! lane takes the one-ray path's steps and the bits agree.
 
 use super::asphere::{
-    asphere_carry, by_asphere_kind, conic_only_root, conic_only_start, conic_root_of, hit_with_normal, is_far,
+    along, asphere_carry, by_asphere_kind, conic_only_root, conic_only_start, conic_root_of, hit_with_normal, is_far,
     newton_eval, newton_finish, newton_hit, newton_running, newton_start_at, ring_conic, ring_or_start, start_root,
     start_u, to_vertex_plane, zones_of, AsphereLanes, ConicRoot, Newton, NewtonEval, StartConic, MAX_NEWTON_STEPS,
 };
@@ -74,8 +74,7 @@ fn pair_rays<W: Wide>(src: &Rays4, shift: W, q: usize, nw: &mut NewtonScratch) -
         let (t0, t1) = (W::select(far0, to_vertex_plane(p0, d0), zero), W::select(far1, to_vertex_plane(p1, d1), zero));
         t0.put(&mut nw.state, 5 * (2 * q));
         t1.put(&mut nw.state, 5 * (2 * q + 1));
-        p0 = [t0.fma(d0[0], p0[0]), t0.fma(d0[1], p0[1]), t0.fma(d0[2], p0[2])];
-        p1 = [t1.fma(d1[0], p1[0]), t1.fma(d1[1], p1[1]), t1.fma(d1[2], p1[2])];
+        (p0, p1) = (along(p0, d0, t0), along(p1, d1, t1));
     }
     (
         [W::narrow(p0[0], p1[0]), W::narrow(p0[1], p1[1]), W::narrow(p0[2], p1[2])],

@@ -49,10 +49,12 @@ impl LensArgs {
         Ok(lens::Prescription::load_with(&self.file, extra)?)
     }
 
-    /// Loads the prescription (at its primary wavelength) and resizes its
-    /// stop if asked.
+    /// Loads the prescription (at its primary wavelength, its glasses'
+    /// range reported there: [`GlassArgs::report`]) and resizes its stop if
+    /// asked.
     pub fn load(&self) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
         let p = self.load_as_written()?;
+        self.catalogs.report(&p, &[p.primary_wavelength_nm()])?;
         Ok(match self.f_number {
             Some(n) => lens::analysis::aperture::with_f_number(&p, n)?,
             None => p,
@@ -70,7 +72,10 @@ impl LensArgs {
             Some(w) if !(w.is_finite() && w > 0.0) => {
                 return Err(format!("--wavelength-nm {w}: give a positive wavelength in nm").into())
             }
-            Some(w) => p.at_wavelength(w)?,
+            Some(w) => {
+                self.catalogs.report(&p, &[w])?;
+                p.at_wavelength(w)?
+            }
             None => p.clone(),
         };
         Ok((p, at))
@@ -242,16 +247,39 @@ pub struct WavelengthArgs {
     pub wavelength_nm: Option<f64>,
 }
 
-/// `--glass-catalog FILE`, repeatable.
+/// `--glass-catalog FILE`, repeatable, and `--strict-glass-range`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct GlassArgs {
     /// A Zemax AGF glass catalogue to search before the shipped ones
     /// (repeatable; UTF-16, UTF-8 or Latin-1).
     #[arg(long = "glass-catalog", value_name = "FILE")]
     pub glass_catalogs: Vec<PathBuf>,
+    /// Refuse a wavelength outside a glass's stated data range instead of
+    /// extrapolating its formula there with a warning.
+    #[arg(long)]
+    pub strict_glass_range: bool,
 }
 
 impl GlassArgs {
+    /// What to do outside a glass's data.
+    pub fn range(&self) -> lens::glass::GlassRange {
+        if self.strict_glass_range {
+            lens::glass::GlassRange::Strict
+        } else {
+            lens::glass::GlassRange::Extrapolate
+        }
+    }
+
+    /// Checks `p`'s glasses at `wavelengths_nm`: a warning for each glass
+    /// used outside its data, or the error that refuses it
+    /// (`--strict-glass-range`, or no index there).
+    pub fn report(&self, p: &lens::Prescription, wavelengths_nm: &[f64]) -> Result<(), lens::glass::GlassError> {
+        for w in p.glass_range(wavelengths_nm, self.range())? {
+            crate::warnings::glass_range(&w);
+        }
+        Ok(())
+    }
+
     /// The user's catalogues.
     pub fn user_catalogs(&self) -> Result<Vec<lens::glass::Catalog>, lens::glass::GlassError> {
         self.glass_catalogs.iter().map(|p| lens::glass::agf::load(p)).collect()

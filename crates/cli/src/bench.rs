@@ -24,6 +24,7 @@ pub fn run(a: Args) -> CmdResult {
     // a lens with glasses: the monochromatic and the mixed-wavelength
     // traces, passes alternating
     let (m, mixed) = if p.is_dispersive() {
+        a.lens.catalogs.report(&p, &[400.0, 700.0])?;
         let (m, s) = w.measure_spectral(budget)?;
         (m, Some(s))
     } else {

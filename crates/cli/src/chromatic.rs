@@ -38,6 +38,7 @@ pub struct Args {
 pub fn run(a: Args) -> CmdResult {
     a.lens.check_plot(a.plot.plot.as_deref())?;
     let p = a.lens.load()?;
+    a.lens.catalogs.report(&p, p.wavelengths_nm())?;
     let max_field = match a.max_field_deg {
         Some(m) => m,
         // the design's own largest field where it names one, else the

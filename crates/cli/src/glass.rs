@@ -48,7 +48,10 @@ pub fn run(a: Args) -> CmdResult {
         plot::save(&plot::glass::dispersion_chart(&glasses), out)?;
     }
     for g in glasses {
-        let n = g.index(nm)?;
+        let n = g.index_with(nm, a.catalogs.range())?;
+        if let Some(w) = g.range_warning(nm) {
+            crate::warnings::glass_range(&w);
+        }
         let (nd, vd) = (g.nd()?, g.vd()?);
         if a.out.json {
             print_json(&json!({

@@ -36,6 +36,7 @@ mod render;
 mod spot;
 mod study;
 mod validate;
+mod warnings;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -131,9 +132,11 @@ fn restore_sigpipe() {
 /// Errors a command reports (already formatted by the library).
 type CmdResult = Result<ExitCode, Box<dyn std::error::Error>>;
 
-/// Prints a JSON value on one line.
+/// Prints a JSON value on one line, with the command's warnings so far
+/// under `"warnings"` when it has any ([`warnings`]).
 fn print_json(v: &serde_json::Value) -> Result<(), StdoutError> {
     use std::io::Write as _;
+    let v = warnings::attach(v.clone());
     writeln!(std::io::stdout().lock(), "{v}").map_err(StdoutError)
 }
 

@@ -76,6 +76,11 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
+    /// Refuse wavelengths outside a glass's data instead of extrapolating
+    /// its formula there with a warning: a spectral render's range narrowed
+    /// to every glass's data, --wavelength-nm outside one refused.
+    #[arg(long)]
+    strict_glass_range: bool,
     /// Instead of one render: render at 1, 2, 4, ... and --spp samples per
     /// pixel, time each and measure its RMSE (and relative to the mean
     /// pixel value) against a reference of 16x --spp samples, whose own
@@ -139,6 +144,7 @@ pub fn run(a: Args) -> CmdResult {
         focus_shift: a.focus_shift,
         aperture_shape: a.aperture_shape.clone(),
         prescription: a.prescription.clone(),
+        strict_glass_range: a.strict_glass_range,
     };
     let mut scene = Scene::load_with(&a.scene, &overrides)?;
     // every output checked before any work: formats, folders, and none of
@@ -173,6 +179,12 @@ pub fn run(a: Args) -> CmdResult {
             None => scene.film.spectral,
         };
         scene.set_colour(spectral, a.wavelength_nm.or(scene.film.wavelength_nm))?;
+    }
+    for w in &scene.glass_warnings {
+        crate::warnings::glass_range(w);
+    }
+    for w in &scene.warnings {
+        crate::warnings::warn("scene", w);
     }
     match a.companions {
         Some(CompanionsFlag::Auto) => scene.film.companions = CompanionsSpec::Auto,

@@ -332,3 +332,62 @@ fn a_study_renders_a_labelled_grid() {
     assert!(err.contains("columns[0].set.aperture_shape"), "{err}");
     std::fs::remove_dir_all(&d).unwrap();
 }
+
+/// A wavelength a little outside a glass's stated data (HIKARI SK16:
+/// 400-700 nm; the He r-line at 706.5188 nm) is computed with the formula
+/// and warned about, on stderr and in the JSON's `warnings`, naming glass,
+/// range and wavelength; `--strict-glass-range` refuses it; so do renders.
+#[test]
+fn glass_outside_its_data_is_extrapolated_with_a_warning() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-range-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("sk16.json");
+    std::fs::write(
+        &file,
+        r#"{"surfaces": [
+  {"radius": 51.5, "thickness": 3.6, "glass": "HIKARI:SK16", "semi_diameter": 12.7, "stop": true},
+  {"radius": -200, "thickness": 80, "semi_diameter": 12.7}]}"#,
+    )
+    .unwrap();
+    let f = file.to_str().unwrap();
+    for args in [
+        vec!["info", f, "--wavelength-nm", "706.5188", "--json"],
+        vec!["fan", f, "--wavelength-nm", "706.5188", "--json"],
+        vec!["glass", "HIKARI:SK16", "--wavelength-nm", "706.5188", "--json"],
+    ] {
+        let (code, out, err) = lens(&args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        assert!(err.contains("warning: HIKARI:SK16: 706.5188 nm is outside the glass's data (400 to 700 nm)"), "{err}");
+        let w = &json(&out)["warnings"][0];
+        assert_eq!(w["kind"], "glass_range", "{args:?}: {out}");
+        assert_eq!(w["glass"], "HIKARI:SK16");
+        assert_eq!(w["range_nm"], serde_json::json!([400.0, 700.0]));
+        assert_eq!(w["wavelength_nm"].as_f64(), Some(706.5188));
+        let mut strict = args.clone();
+        strict.push("--strict-glass-range");
+        let (code, _, err) = lens(&strict);
+        assert_eq!(code, 1, "{strict:?}");
+        assert!(err.contains("HIKARI:SK16") && err.contains("706.5188 nm is outside") && err.contains("400 to 700"));
+    }
+    // inside the data: no warnings key
+    let (code, out, _) = lens(&["info", f, "--json"]);
+    assert_eq!(code, 0);
+    assert!(json(&out).get("warnings").is_none(), "{out}");
+    // a render at one wavelength past N-SF11's 370 nm
+    let png = dir.join("p.png");
+    let p = png.to_str().unwrap();
+    let scene = "lens-data/scenes/prism.json";
+    let small = ["--width", "16", "--height", "9", "--spp", "1"];
+    let (code, _, err) = lens(&[&["render", scene, "-o", p, "--wavelength-nm", "365"][..], &small].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("SCHOTT:N-SF11: 365 nm is outside the glass's data (370 to 2500 nm)"), "{err}");
+    let (code, _, err) =
+        lens(&[&["render", scene, "-o", p, "--wavelength-nm", "365", "--strict-glass-range"][..], &small].concat());
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("film.wavelength_nm") && err.contains("N-SF11"), "{err}");
+    // spectral: 360-830 extrapolated, or narrowed to the data when strict
+    let (code, _, err) = lens(&[&["render", scene, "-o", p][..], &small].concat());
+    assert!(code == 0 && err.contains("spectral 360-830 nm") && err.contains("N-SF11: 360 nm"), "{err}");
+    let (code, _, err) = lens(&[&["render", scene, "-o", p, "--strict-glass-range"][..], &small].concat());
+    assert!(code == 0 && err.contains("spectral 370-830 nm") && !err.contains("warning"), "{err}");
+}

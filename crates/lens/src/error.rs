@@ -92,6 +92,21 @@ pub fn num(x: f64) -> String {
     }
 }
 
+/// A number as given, for echoing a user's value in a message: its
+/// shortest exact form (`706.5188`, `0.1`), in scientific notation when
+/// very large or small (`1e308`, not 309 digits), so never more than 17
+/// significant digits; `infinity` for infinity.
+pub fn exact(x: f64) -> String {
+    if x.is_infinite() {
+        return if x > 0.0 { "infinity".into() } else { "-infinity".into() };
+    }
+    if x == 0.0 || !x.is_finite() || (1e-4..1e7).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 fn object(d: &Option<f64>) -> String {
     match d {
         Some(d) => format!("object at {} mm", num(*d)),

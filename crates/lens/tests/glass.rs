@@ -109,8 +109,12 @@ fn lookup_by_vendor_and_name_with_suggestions_and_ambiguity() {
         Err(GlassError::Ambiguous { candidates, .. }) => assert!(candidates.len() >= 2),
         other => panic!("{shared}: {other:?}"),
     }
-    let e = cats.find("SCHOTT:N-BK7").unwrap().index(3000.0).unwrap_err().to_string();
+    let bk7 = cats.find("SCHOTT:N-BK7").unwrap();
+    let e = bk7.index_with(3000.0, lens::glass::GlassRange::Strict).unwrap_err().to_string();
     assert!(e.contains("SCHOTT:N-BK7") && e.contains("outside") && e.contains("2500"), "{e}");
+    // extrapolated by default, a little below its 2500 nm value
+    let (n, n2500) = (bk7.index(3000.0).unwrap(), bk7.index(2500.0).unwrap());
+    assert!(n < n2500 && n2500 - n < 0.02, "{n} {n2500}");
 }
 
 /// Hand-written AGF entries (N-BK7 in the Sellmeier 1 form, and BK7 in the
@@ -141,7 +145,7 @@ LD 0.365 1.014\r\n";
         let old = cat.get("BK7OLD").unwrap();
         assert!((old.nd().unwrap() - 1.5168).abs() < 2e-5, "{what}: {}", old.nd().unwrap());
         assert!((old.vd().unwrap() - 64.17).abs() < 0.05, "{what}: {}", old.vd().unwrap());
-        assert!(old.index(2000.0).is_err());
+        assert!(old.index_with(2000.0, lens::glass::GlassRange::Strict).is_err());
     }
 }
 
@@ -231,11 +235,19 @@ mod prescriptions {
         let e = Prescription::from_json_str(bad, "bad.json").unwrap_err().to_string();
         assert!(e.contains("surface 1") && e.contains("N-BK8") && e.contains("SCHOTT:N-BK7"), "{e}");
         assert!(e.contains("surface 2") && e.contains("both"), "{e}");
-        let far = r#"{"wavelengths_nm": [3000], "surfaces": [
+        // no index at 9 µm (N-BK7's n² < 0 below its pole at 10.2 µm)
+        let far = r#"{"wavelengths_nm": [9000], "surfaces": [
             {"radius": 50, "thickness": 4, "glass": "SCHOTT:N-BK7", "semi_diameter": 10, "stop": true},
             {"thickness": 90, "semi_diameter": 10}]}"#;
         let e = Prescription::from_json_str(far, "far.json").unwrap_err().to_string();
-        assert!(e.contains("surface 1") && e.contains("3000 nm") && e.contains("2500"), "{e}");
+        assert!(e.contains("surface 1") && e.contains("9000 nm") && e.contains("2500"), "{e}");
+        // 3 µm is extrapolated, with a warning to report, or refused
+        let near = far.replace("9000", "3000");
+        let p = Prescription::from_json_str(&near, "near.json").unwrap();
+        let w = p.glass_range(p.wavelengths_nm(), lens::glass::GlassRange::Extrapolate).unwrap();
+        assert_eq!(w.len(), 1);
+        assert_eq!((w[0].glass.as_str(), w[0].range_nm, w[0].wavelength_nm), ("SCHOTT:N-BK7", [300.0, 2500.0], 3000.0));
+        assert!(p.glass_range(p.wavelengths_nm(), lens::glass::GlassRange::Strict).is_err());
         let spec = lens::PrescriptionSpec::from_json_str(bad, "bad.json").unwrap();
         assert!(lens::model::validate::validate(&spec)
             .iter()
@@ -313,7 +325,8 @@ mod prescriptions {
 }
 
 /// A prepared index is the glass's index to the bit, for every shipped
-/// glass, inside its range and (as an error) outside it.
+/// glass, inside its range and extrapolated outside it (or an error in
+/// both), and refused outside it under the strict choice.
 #[test]
 fn prepared_indices_are_the_glass_indices_to_the_bit() {
     let cats = lens::glass::Catalogs::shipped();
@@ -331,7 +344,15 @@ fn prepared_indices_are_the_glass_indices_to_the_bit() {
             }
             n += 1;
         }
-        assert!(p.index(hi * 2.0 + 1.0).is_err() && p.index(f64::NAN).is_err(), "{name}");
+        for nm in [lo * 0.97, hi * 1.02] {
+            match (g.index(nm), p.index(nm)) {
+                (Ok(a), Ok(b)) => assert_eq!(a.to_bits(), b.to_bits(), "{name} at {nm} nm"),
+                (Err(_), Err(_)) => {}
+                (a, b) => panic!("{name} at {nm} nm: {a:?} vs {b:?}"),
+            }
+        }
+        let strict = lens::glass::GlassRange::Strict;
+        assert!(p.index_with(hi * 2.0 + 1.0, strict).is_err() && p.index(f64::NAN).is_err(), "{name}");
     }
     assert!(n > 10_000, "{n}");
 }

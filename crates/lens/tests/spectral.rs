@@ -106,14 +106,22 @@ fn dispersion_separates_wavelengths_and_constant_indices_do_not() {
     }
 }
 
-/// A wavelength outside a glass's data, or none at all, is an error that
-/// names the glass or the wavelength, and nothing is traced.
+/// A wavelength where a glass has no index (N-BK7 from 7.6 µm up to its
+/// Sellmeier pole at 10.2 µm, or between the data's end and such a
+/// wavelength), or none at all, is an error that names the glass or the
+/// wavelength, and nothing is traced. A little outside the data the
+/// formulas are extrapolated: that traces.
 #[test]
-fn wavelengths_outside_the_data_are_errors() {
+fn wavelengths_without_an_index_are_errors() {
     let p = Prescription::from_json_str(MIXED, "<mixed>").unwrap();
     let t = Tracer::forward(&p);
     let ray = Ray::new(DVec3::new(0.0, 1.0, -5.0), DVec3::Z).unwrap();
-    for nm in [200.0, 3000.0, f64::NAN, -5.0, 0.0, f64::INFINITY] {
+    let singlet = MIXED.replace("HOYA:E-F5", "SCHOTT:N-SF5").replace("LZOS:BF1", "SCHOTT:N-BK7");
+    let mut b = SpectralBatch::default();
+    b.push(ray, 550.0);
+    b.push(ray, 2600.0);
+    Tracer::forward(&Prescription::from_json_str(&singlet, "<extrapolated>").unwrap()).trace_spectral(&mut b).unwrap();
+    for nm in [9000.0, 11_000.0, f64::NAN, -5.0, 0.0, f64::INFINITY] {
         let mut b = SpectralBatch::default();
         b.push(ray, 550.0);
         b.push(ray, nm);

@@ -8,10 +8,13 @@ pub mod agf;
 pub mod catalog;
 pub mod formula;
 pub(crate) mod kernel;
+pub mod range;
 
+use crate::error::{exact, num};
 pub use catalog::{Catalog, Catalogs};
 pub use formula::Dispersion;
 use kernel::{Kernel, Lambda};
+pub use range::{GlassRange, RangeWarning};
 
 /// The helium d line, nm: where nd is given.
 pub const LINE_D_NM: f64 = 587.5618;
@@ -43,8 +46,9 @@ pub enum GlassError {
         /// The candidates, `VENDOR:NAME`.
         candidates: Vec<String>,
     },
-    /// A wavelength outside the glass's data.
-    #[error("{glass}: {wavelength_nm} nm is outside the glass's data ({} to {} nm)", range_nm[0], range_nm[1])]
+    /// A wavelength outside the glass's data, refused by
+    /// [`GlassRange::Strict`].
+    #[error("{glass}: {} nm is outside the glass's data ({} to {} nm) and the strict glass range refuses it; choose a wavelength within the range, or drop the strict choice (--strict-glass-range) to extrapolate the formula", exact(*wavelength_nm), num(range_nm[0]), num(range_nm[1]))]
     OutOfRange {
         /// The glass, `VENDOR:NAME`.
         glass: String,
@@ -52,6 +56,19 @@ pub enum GlassError {
         wavelength_nm: f64,
         /// The valid range, nm.
         range_nm: [f64; 2],
+    },
+    /// A wavelength where the glass's formula has no index (tabulated
+    /// data end, a pole, n <= 1).
+    #[error("{glass}: no index at {} nm (the glass's data cover {} to {} nm): {reason}; choose a wavelength within the range or another glass", exact(*wavelength_nm), num(range_nm[0]), num(range_nm[1]))]
+    NoValue {
+        /// The glass, `VENDOR:NAME`.
+        glass: String,
+        /// The wavelength asked for, nm.
+        wavelength_nm: f64,
+        /// The range the data cover, nm.
+        range_nm: [f64; 2],
+        /// Why there is no value.
+        reason: range::NoValue,
     },
     /// A catalogue file that cannot be read.
     #[error("{origin}: line {line}: {message}")]
@@ -64,7 +81,7 @@ pub enum GlassError {
         message: String,
     },
     /// A model glass with impossible numbers.
-    #[error("model glass nd = {nd}, vd = {vd}: give nd > 1 and vd > 0 (finite)")]
+    #[error("model glass nd = {}, vd = {}: give nd > 1 and vd > 0 (finite)", num(*nd), num(*vd))]
     BadModel {
         /// Index at d.
         nd: f64,
@@ -90,25 +107,20 @@ pub struct PreparedIndex {
 }
 
 impl PreparedIndex {
-    /// The index at `wavelength_nm`; an error outside the glass's range
+    /// The index at `wavelength_nm`, extrapolated outside the glass's data
     /// (as [`Glass::index`]).
     #[inline]
     pub fn index(&self, wavelength_nm: f64) -> Result<f64, GlassError> {
-        let [lo, hi] = self.glass.range_nm;
-        let slack = 1e-6 * hi;
-        let n = if wavelength_nm >= lo - slack && wavelength_nm <= hi + slack {
-            match self.kernel {
-                Kernel::General => self.glass.dispersion.index_general(wavelength_nm),
-                k => k.eval(&Lambda::of_nm(wavelength_nm)),
-            }
-        } else {
-            f64::NAN
-        };
-        if n.is_finite() && n > 0.0 {
-            Ok(n)
-        } else {
-            Err(GlassError::OutOfRange { glass: self.glass.full_name(), wavelength_nm, range_nm: self.glass.range_nm })
-        }
+        self.index_with(wavelength_nm, GlassRange::Extrapolate)
+    }
+
+    /// The index at `wavelength_nm` under `range` (as [`Glass::index_with`]).
+    #[inline]
+    pub fn index_with(&self, wavelength_nm: f64, range: GlassRange) -> Result<f64, GlassError> {
+        self.glass.index_by(wavelength_nm, range, |nm| match self.kernel {
+            Kernel::General => self.glass.dispersion.index_general(nm),
+            k => k.eval(&Lambda::of_nm(nm)),
+        })
     }
 
     /// The glass.
@@ -156,20 +168,13 @@ impl Glass {
         format!("{}:{}", self.catalog, self.name)
     }
 
-    /// The index at `wavelength_nm`; an error outside the glass's range.
+    /// The index at `wavelength_nm`. Outside the glass's data the formula
+    /// is extrapolated (as Zemax does; [`Self::range_warning`] gives the
+    /// warning to report, [`Self::index_with`] with [`GlassRange::Strict`]
+    /// refuses); an error where it has no value (tabulated data, a pole,
+    /// n <= 1).
     pub fn index(&self, wavelength_nm: f64) -> Result<f64, GlassError> {
-        let [lo, hi] = self.range_nm;
-        // the range as printed in catalogues is rounded: allow its last digit
-        let slack = 1e-6 * hi;
-        if !(wavelength_nm >= lo - slack && wavelength_nm <= hi + slack) {
-            return Err(GlassError::OutOfRange { glass: self.full_name(), wavelength_nm, range_nm: self.range_nm });
-        }
-        let n = self.dispersion.index(wavelength_nm);
-        if n.is_finite() && n > 0.0 {
-            Ok(n)
-        } else {
-            Err(GlassError::OutOfRange { glass: self.full_name(), wavelength_nm, range_nm: self.range_nm })
-        }
+        self.index_with(wavelength_nm, GlassRange::Extrapolate)
     }
 
     /// The glass's index prepared for many wavelengths: the formula put
@@ -188,19 +193,24 @@ impl Glass {
         PreparedIndex { kernel: Kernel::of(&self.dispersion), glass: self.clone() }
     }
 
-    /// nd, from the formula.
+    /// nd, from the formula; an error where the data do not cover the d
+    /// line (a catalogue property is not extrapolated).
     pub fn nd(&self) -> Result<f64, GlassError> {
-        self.index(LINE_D_NM)
+        self.index_with(LINE_D_NM, GlassRange::Strict)
     }
 
-    /// The Abbe number vd = (nd - 1) / (nF - nC), from the formula.
+    /// The Abbe number vd = (nd - 1) / (nF - nC), from the formula (the
+    /// lines within the data, as for [`Self::nd`]).
     pub fn vd(&self) -> Result<f64, GlassError> {
-        Ok((self.nd()? - 1.0) / (self.index(LINE_F_NM)? - self.index(LINE_C_NM)?))
+        let at = |nm| self.index_with(nm, GlassRange::Strict);
+        Ok((self.nd()? - 1.0) / (at(LINE_F_NM)? - at(LINE_C_NM)?))
     }
 
-    /// The relative partial dispersion PgF = (ng - nF) / (nF - nC).
+    /// The relative partial dispersion PgF = (ng - nF) / (nF - nC) (the
+    /// lines within the data, as for [`Self::nd`]).
     pub fn partial_dispersion_gf(&self) -> Result<f64, GlassError> {
-        let (f, c) = (self.index(LINE_F_NM)?, self.index(LINE_C_NM)?);
-        Ok((self.index(LINE_G_NM)? - f) / (f - c))
+        let at = |nm| self.index_with(nm, GlassRange::Strict);
+        let (f, c) = (at(LINE_F_NM)?, at(LINE_C_NM)?);
+        Ok((at(LINE_G_NM)? - f) / (f - c))
     }
 }

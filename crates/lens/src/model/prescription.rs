@@ -5,7 +5,7 @@ use super::spec::{GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 use super::surface::Surface;
 use super::validate::validate;
 use crate::error::OpticsError;
-use crate::glass::{Catalogs, Glass, GlassError, LINE_C_NM, LINE_D_NM, LINE_F_NM};
+use crate::glass::{Catalogs, Glass, GlassError, GlassRange, RangeWarning, LINE_C_NM, LINE_D_NM, LINE_F_NM};
 use std::sync::Arc;
 
 /// The wavelengths of a prescription that names none: F, d and C, nm.
@@ -49,9 +49,11 @@ impl Prescription {
     }
 
     /// [`Self::from_spec`] with glass names looked up in `catalogs`. Every
-    /// surface's glass must be known and hold at every wavelength of the
-    /// system (findings name the surface, the glass and what to change);
-    /// the surfaces' indices are then those of the primary wavelength.
+    /// surface's glass must be known and have an index at every wavelength
+    /// of the system, extrapolated outside its data (findings name the
+    /// surface, the glass and what to change; [`Self::glass_range`] gives
+    /// the warnings to report, or refuses); the surfaces' indices are then
+    /// those of the primary wavelength.
     pub fn from_spec_with(spec: &PrescriptionSpec, catalogs: &Catalogs) -> Result<Self, Vec<Finding>> {
         let mut findings = validate(spec);
         let wavelengths_nm = spec.wavelengths_nm.clone().unwrap_or_else(|| DEFAULT_WAVELENGTHS_NM.to_vec());
@@ -78,7 +80,7 @@ impl Prescription {
                                     severity: Severity::Error,
                                     surface: Some(i + 1),
                                     field: Some("glass"),
-                                    message: format!("{e}: choose another glass or wavelengths within its range"),
+                                    message: e.to_string(),
                                 });
                                 bad = true;
                                 break;
@@ -137,14 +139,50 @@ impl Prescription {
     /// assert!(blue.surfaces()[0].ior > p.surfaces()[0].ior);
     /// ```
     pub fn at_wavelength(&self, wavelength_nm: f64) -> Result<Prescription, GlassError> {
+        self.at_wavelength_with(wavelength_nm, GlassRange::Extrapolate)
+    }
+
+    /// [`Self::at_wavelength`] with the choice of what to do outside a
+    /// glass's data ([`GlassRange`]): extrapolate (the default), or refuse.
+    pub fn at_wavelength_with(&self, wavelength_nm: f64, range: GlassRange) -> Result<Prescription, GlassError> {
         let mut p = self.clone();
         for s in &mut p.surfaces {
             if let Some(g) = s.glass {
-                s.ior = self.glasses[g].index(wavelength_nm)?;
+                s.ior = self.glasses[g].index_with(wavelength_nm, range)?;
             }
         }
         p.wavelength_nm = wavelength_nm;
         Ok(p)
+    }
+
+    /// The glasses at `wavelengths_nm` under `range`: the warnings to
+    /// report for each glass and wavelength outside its data (one each,
+    /// in surface order), or the error of the first that has no index
+    /// there or that [`GlassRange::Strict`] refuses.
+    ///
+    /// ```
+    /// use lens::glass::GlassRange;
+    /// let p = lens::Prescription::from_json_str(r#"{"surfaces": [
+    ///   {"radius": 51.5, "thickness": 3.6, "glass": "HIKARI:SK16", "semi_diameter": 12.7, "stop": true},
+    ///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
+    /// let w = p.glass_range(&[587.5618, 706.5188], GlassRange::Extrapolate).unwrap();
+    /// assert_eq!(w.len(), 1);
+    /// assert_eq!((w[0].glass.as_str(), w[0].range_nm), ("HIKARI:SK16", [400.0, 700.0]));
+    /// assert!(p.glass_range(&[706.5188], GlassRange::Strict).is_err());
+    /// ```
+    pub fn glass_range(&self, wavelengths_nm: &[f64], range: GlassRange) -> Result<Vec<RangeWarning>, GlassError> {
+        let mut out: Vec<RangeWarning> = Vec::new();
+        for g in self.glasses.iter() {
+            for &nm in wavelengths_nm {
+                g.index_with(nm, range)?;
+                if let Some(w) = g.range_warning(nm) {
+                    if !out.contains(&w) {
+                        out.push(w);
+                    }
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// The field angles the design is for, degrees (empty when the file

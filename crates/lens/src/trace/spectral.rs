@@ -200,8 +200,7 @@ impl Tracer {
             });
         }
         for g in self.glasses.iter() {
-            g.index(lo)?;
-            g.index(hi)?;
+            g.check_band(lo, hi, crate::glass::GlassRange::Extrapolate)?;
         }
         Ok(())
     }

@@ -49,37 +49,37 @@ pub(super) fn radiance_of(spec: &RadianceSpec) -> Result<Radiance, String> {
 }
 
 /// RGB or spectral, from the film's setting and what in the scene depends
-/// on wavelength; a spectral render's range is 360-830 nm narrowed to every
-/// glass's data.
+/// on wavelength; a spectral render's range is 360-830 nm, each glass
+/// extrapolated past its data where its formula allows (with a warning),
+/// else, or under `range`'s strict choice, narrowed to its data
+/// ([`crate::spectrum::cie::range_through_with`]). With the warnings.
 pub(super) fn colour_mode(
     film: &FilmSpec,
     camera: &Camera,
     materials: &[Material],
     point_lights: &[(DVec3, Radiance)],
-) -> Result<ColourMode, (String, String)> {
+    range: lens::glass::GlassRange,
+) -> Result<(ColourMode, Vec<lens::glass::RangeWarning>), (String, String)> {
     let material_glasses = materials.iter().filter_map(|m| match m {
         Material::Dielectric { medium: Medium { glass: Some(g), .. } } => Some(g.glass()),
         _ => None,
     });
     let glasses: Vec<&lens::glass::Glass> = camera.glasses().into_iter().chain(material_glasses).collect();
-    let (lo, hi) = crate::spectrum::cie::range_through(glasses.iter().copied());
     if let Some(nm) = film.wavelength_nm {
         if !(crate::spectrum::cie::MIN_NM..=crate::spectrum::cie::MAX_NM).contains(&nm) {
-            return Err(("film.wavelength_nm".into(), format!("{nm}: give a wavelength from 360 to 830 nm")));
-        }
-        if let Some(g) = glasses.iter().find(|g| !(nm >= g.range_nm[0] && nm <= g.range_nm[1])) {
             return Err((
                 "film.wavelength_nm".into(),
-                format!(
-                    "{nm} nm is outside the data of {} ({}-{} nm): choose a wavelength inside it",
-                    g.full_name(),
-                    g.range_nm[0],
-                    g.range_nm[1]
-                ),
+                format!("{}: give a wavelength from 360 to 830 nm", lens::error::exact(nm)),
             ));
         }
-        return Ok(ColourMode::Monochromatic(nm));
+        let mut warnings = Vec::new();
+        for g in &glasses {
+            g.index_with(nm, range).map_err(|e| ("film.wavelength_nm".to_string(), e.to_string()))?;
+            warnings.extend(g.range_warning(nm).filter(|w| !warnings.contains(w)));
+        }
+        return Ok((ColourMode::Monochromatic(nm), warnings));
     }
+    let (lo, hi, warnings) = crate::spectrum::cie::range_through_with(glasses.iter().copied(), range);
     let wavelength_dependent = camera.is_dispersive()
         || !glasses.is_empty()
         || materials.iter().any(|m| matches!(m, Material::Emissive { radiance } if radiance.is_spectral()))
@@ -90,15 +90,17 @@ pub(super) fn colour_mode(
         SpectralSpec::Auto => wavelength_dependent,
     };
     if !spectral {
-        return Ok(ColourMode::Rgb);
+        return Ok((ColourMode::Rgb, Vec::new()));
     }
     if hi - lo < 100.0 || hi.is_nan() || lo.is_nan() {
         return Err((
             "film.spectral".into(),
             format!(
-                "the glasses' data overlap only over {lo}-{hi} nm of the visible: a spectral render needs 100 nm or more; set \"spectral\": \"off\""
+                "the glasses' data overlap only over {}-{} nm of the visible: a spectral render needs 100 nm or more; set \"spectral\": \"off\"",
+                lens::error::num(lo),
+                lens::error::num(hi)
             ),
         ));
     }
-    Ok(ColourMode::Spectral(WavelengthRange::new(lo, hi)))
+    Ok((ColourMode::Spectral(WavelengthRange::new(lo, hi)), warnings))
 }

@@ -82,7 +82,7 @@ pub enum FieldError {
     Lens(Box<lens::LoadError>),
     /// The prescription could not be set up as asked.
     #[error(transparent)]
-    Optics(#[from] lens::OpticsError),
+    Optics(Box<lens::OpticsError>),
     /// The aperture shape could not be made.
     #[error(transparent)]
     Aperture(#[from] crate::camera::aperture::ApertureError),
@@ -97,6 +97,12 @@ pub enum FieldError {
     /// An environment image could not be read.
     #[error(transparent)]
     Image(#[from] crate::image::ImageError),
+}
+
+impl From<lens::OpticsError> for FieldError {
+    fn from(e: lens::OpticsError) -> Self {
+        FieldError::Optics(Box::new(e))
+    }
 }
 
 impl From<lens::LoadError> for FieldError {
@@ -199,6 +205,14 @@ pub struct Scene {
     pub film: FilmSpec,
     /// RGB, spectral or one wavelength.
     pub colour: ColourMode,
+    /// What a spectral render does outside a glass's data.
+    pub glass_range: lens::glass::GlassRange,
+    /// The glasses a spectral or one-wavelength render uses past their
+    /// data (extrapolated).
+    pub glass_warnings: Vec<lens::glass::RangeWarning>,
+    /// Anything else the user should know about the scene as built, one
+    /// sentence each.
+    pub warnings: Vec<String>,
     /// Every file the scene was built from: the scene file (when loaded
     /// from one), the prescription, aperture masks, the environment image,
     /// meshes. A command must not write over any of them.
@@ -242,6 +256,9 @@ impl Scene {
         })?;
         let mut scene = Scene::build(file, dir, &name)?;
         scene.inputs.insert(0, path.to_path_buf());
+        if overrides.strict_glass_range {
+            scene.set_glass_range(lens::glass::GlassRange::Strict)?;
+        }
         Ok(scene)
     }
 
@@ -480,7 +497,9 @@ impl Scene {
                 .collect();
             *lamps = crate::camera::LampAim::new(spheres, aperture, *focus_shift);
         }
-        let colour = colour_mode(&file.film, &camera, &materials, &point_lights).map_err(|(field, e)| bad(field, e))?;
+        let range = lens::glass::GlassRange::Extrapolate;
+        let (colour, range_warnings) =
+            colour_mode(&file.film, &camera, &materials, &point_lights, range).map_err(|(field, e)| bad(field, e))?;
         // acceleration only when there are enough bounded primitives
         let bounded: Vec<usize> = (0..shapes.len()).filter(|&i| !matches!(shapes[i], Shape::Plane { .. })).collect();
         let (bvh, linear) = if bounded.len() >= BVH_THRESHOLD {
@@ -504,10 +523,23 @@ impl Scene {
             camera,
             film: file.film,
             colour,
+            glass_range: range,
+            glass_warnings: range_warnings,
+            warnings: Vec::new(),
             inputs,
             bvh,
             linear,
         })
+    }
+
+    /// What a render does outside a glass's data (extrapolate, the default,
+    /// or strict: a spectral range narrowed to every glass's data, one
+    /// wavelength outside one refused); errors name the film's field.
+    pub fn set_glass_range(&mut self, range: lens::glass::GlassRange) -> Result<(), SceneError> {
+        let old = self.glass_range;
+        self.glass_range = range;
+        let film = self.film.clone();
+        self.set_colour(film.spectral, film.wavelength_nm).inspect_err(|_| self.glass_range = old)
     }
 
     /// Overrides the film's `spectral` and `wavelength_nm` settings (as
@@ -517,8 +549,11 @@ impl Scene {
         let mut film = self.film.clone();
         film.spectral = spectral;
         film.wavelength_nm = wavelength_nm;
-        self.colour = colour_mode(&film, &self.camera, &self.materials, &self.point_lights)
-            .map_err(|(field, e)| SceneError::Invalid { path: "command line".into(), field, source: e.into() })?;
+        let (colour, warnings) =
+            colour_mode(&film, &self.camera, &self.materials, &self.point_lights, self.glass_range)
+                .map_err(|(field, e)| SceneError::Invalid { path: "command line".into(), field, source: e.into() })?;
+        self.colour = colour;
+        self.glass_warnings = warnings;
         self.film = film;
         Ok(())
     }

@@ -45,12 +45,24 @@ pub struct Overrides {
     pub aperture_shape: Option<ApertureSpec>,
     /// A real lens's prescription file (relative to the working folder).
     pub prescription: Option<PathBuf>,
+    /// Refuse wavelengths outside a glass's data instead of extrapolating
+    /// (a spectral render's range narrowed to every glass's data).
+    pub strict_glass_range: bool,
 }
 
 /// A field name and what is wrong with it.
 type Problem = (String, String);
 
 impl Overrides {
+    /// What to do outside a glass's data.
+    pub fn glass_range(&self) -> lens::glass::GlassRange {
+        if self.strict_glass_range {
+            lens::glass::GlassRange::Strict
+        } else {
+            lens::glass::GlassRange::Extrapolate
+        }
+    }
+
     /// Parses an aperture shape written `circle`, `polygon:N[:ROT_DEG]` or
     /// `mask:FILE.png`.
     pub fn parse_shape(s: &str) -> Result<ApertureSpec, String> {

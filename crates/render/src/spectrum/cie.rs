@@ -19,9 +19,34 @@ pub const MIN_NM: f64 = FIRST_NM;
 pub const MAX_NM: f64 = LAST_NM;
 
 /// The wavelengths a spectral render may sample through `glasses`, nm:
-/// 360-830 nm narrowed to every glass's data (empty when `lo >= hi`).
+/// 360-830 nm, each glass extrapolated past its data where its formula has
+/// an index there (the default, [`lens::glass::GlassRange::Extrapolate`]),
+/// else (a table, a pole; or always under `Strict`) narrowed to its data;
+/// empty when `lo >= hi`. With the warnings for the glasses extrapolated.
+pub fn range_through_with<'a>(
+    glasses: impl IntoIterator<Item = &'a lens::glass::Glass>,
+    range: lens::glass::GlassRange,
+) -> (f64, f64, Vec<lens::glass::RangeWarning>) {
+    let glasses: Vec<&lens::glass::Glass> = glasses.into_iter().collect();
+    let (mut lo, mut hi) = (MIN_NM, MAX_NM);
+    for g in &glasses {
+        if g.check_band(MIN_NM, MAX_NM, range).is_err() {
+            (lo, hi) = (lo.max(g.range_nm[0]), hi.min(g.range_nm[1]));
+        }
+    }
+    let mut warnings: Vec<lens::glass::RangeWarning> = Vec::new();
+    for w in glasses.iter().flat_map(|g| [g.range_warning(lo), g.range_warning(hi)]).flatten() {
+        if !warnings.contains(&w) {
+            warnings.push(w);
+        }
+    }
+    (lo, hi, warnings)
+}
+
+/// [`range_through_with`] extrapolating, without its warnings.
 pub fn range_through<'a>(glasses: impl IntoIterator<Item = &'a lens::glass::Glass>) -> (f64, f64) {
-    glasses.into_iter().fold((MIN_NM, MAX_NM), |(lo, hi), g| (lo.max(g.range_nm[0]), hi.min(g.range_nm[1])))
+    let (lo, hi, _) = range_through_with(glasses, lens::glass::GlassRange::Extrapolate);
+    (lo, hi)
 }
 
 /// The CIE 1931 2-degree colour-matching functions (x̄, ȳ, z̄) at `nm`

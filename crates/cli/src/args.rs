@@ -155,28 +155,50 @@ impl AimArgs {
 /// The image plane of an analysis.
 #[derive(clap::Args, Debug, Clone)]
 pub struct PlaneArgs {
-    /// Evaluate on a film this many mm behind the last vertex instead of the
-    /// paraxial image plane.
-    #[arg(long, value_name = "MM", allow_hyphen_values = true)]
-    pub film: Option<f64>,
+    /// Where to evaluate: `image` (the prescription's image surface, its
+    /// last thickness behind the last vertex, as Zemax and optiland do;
+    /// the default), `paraxial` (the paraxial image plane of the field's
+    /// object), or a film distance in mm behind the last vertex.
+    #[arg(long, value_name = "image|paraxial|MM", allow_hyphen_values = true)]
+    pub film: Option<String>,
 }
 
 impl PlaneArgs {
-    /// The image plane: paraxial unless a film distance is given; a film
-    /// that is not behind the last vertex is refused (as `focus` refuses
-    /// it).
+    /// The image plane: the prescription's image surface unless `--film`
+    /// says otherwise; a film that is not behind the last vertex is
+    /// refused (as `focus` refuses it).
     pub fn plane(&self) -> Result<ImagePlane, String> {
-        match self.film {
-            None => Ok(ImagePlane::Paraxial),
-            Some(d) if d.is_finite() && d > 0.0 => Ok(ImagePlane::Film(d)),
-            Some(d) if d.is_finite() => Err(format!(
+        let Some(text) = self.film.as_deref().map(str::trim) else {
+            return Ok(ImagePlane::ImageSurface);
+        };
+        match text.to_ascii_lowercase().as_str() {
+            "image" | "image-surface" => return Ok(ImagePlane::ImageSurface),
+            "paraxial" => return Ok(ImagePlane::Paraxial),
+            _ => {}
+        }
+        let d: f64 = text.parse().map_err(|_| {
+            format!("--film {text}: give image (the prescription's image surface), paraxial, or a distance in mm behind the last vertex")
+        })?;
+        match d {
+            d if d.is_finite() && d > 0.0 => Ok(ImagePlane::Film(d)),
+            d if d.is_finite() => Err(format!(
                 "--film {}: the film would be inside the lens, {} mm in front of the last vertex; give a distance behind it (> 0 mm)",
-                lens::error::num(d),
+                lens::error::exact(d),
                 lens::error::num(-d)
             )),
-            Some(d) => Err(format!("--film {d}: give a finite distance in mm behind the last vertex")),
+            d => Err(format!("--film {d}: give a finite distance in mm behind the last vertex")),
         }
     }
+}
+
+/// How an output names `plane`, at `z` mm from the first vertex.
+pub fn describe_plane(plane: ImagePlane, z: f64) -> String {
+    let what = match plane {
+        ImagePlane::ImageSurface => "the prescription's image surface".to_string(),
+        ImagePlane::Paraxial => "the paraxial image plane".to_string(),
+        ImagePlane::Film(d) => format!("a film {} mm behind the last vertex", lens::error::exact(d)),
+    };
+    format!("{what}, z = {z:.6} mm")
 }
 
 /// A list of field angles from the flag `flag`: at least one, each finite

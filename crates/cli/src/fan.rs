@@ -51,9 +51,9 @@ pub fn run(a: Args) -> CmdResult {
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "ray fan at {} deg on z = {:.6} mm (chief ray at x {:.6}, y {:.6} mm)",
+        "ray fan at {} deg on {} (chief ray at x {:.6}, y {:.6} mm)",
         a.field.field_deg,
-        fan.image_z,
+        crate::args::describe_plane(plane, fan.image_z),
         fan.chief[0],
         fan.chief[1]
     );

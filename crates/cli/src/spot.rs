@@ -3,7 +3,8 @@
 use crate::args::{AimArgs, FieldArgs, FieldPlotArgs, JsonArgs, LensArgs, PlaneArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::pattern::Pattern;
-use lens::analysis::{spot::spot_traced, Field, Launcher};
+use lens::analysis::spot::{spot_polychromatic, spot_traced};
+use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
 use serde_json::json;
 use std::process::ExitCode;
@@ -57,9 +58,18 @@ pub fn run(args: Args) -> CmdResult {
         PatternArg::Random => Pattern::Random,
     };
     let first = FirstOrder::of(&p)?;
+    // every wavelength of the prescription with its weight, as Zemax
+    // draws a spot, unless one is asked for
+    let waves: Vec<(f64, f64)> = p.wavelengths_nm().iter().copied().zip(p.wavelength_weights()).collect();
+    if args.wavelength.wavelength_nm.is_none() {
+        args.lens.catalogs.report(&p, p.wavelengths_nm())?;
+    }
     let spot_at = |deg: f64| -> Result<_, lens::OpticsError> {
         let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, deg), args.aim.aim())?;
-        spot_traced(&p, &traced, &launcher, pattern, args.n, plane)
+        match args.wavelength.wavelength_nm {
+            Some(_) => spot_traced(&p, &traced, &launcher, pattern, args.n, plane),
+            None => spot_polychromatic(&p, &launcher, pattern, args.n, plane, &waves),
+        }
     };
     let field_deg = args.field.field_deg;
     let s = spot_at(field_deg)?;
@@ -71,7 +81,10 @@ pub fn run(args: Args) -> CmdResult {
     if args.out.json {
         print_json(&json!({
             "field_deg": field_deg,
+            "image_plane": s.image_plane,
             "image_z": s.image_z,
+            "wavelengths_nm": s.wavelengths_nm,
+            "wavelength_weights": s.wavelength_weights,
             "rays": s.rays,
             "vignetted": s.vignetted,
             "aim_failures": s.aim_failures,
@@ -88,8 +101,8 @@ pub fn run(args: Args) -> CmdResult {
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "spot at {field_deg} deg on z = {:.6} mm, {} pattern: {} rays, {} vignetted",
-        s.image_z,
+        "spot at {field_deg} deg on {}, {} pattern: {} rays, {} vignetted",
+        crate::args::describe_plane(plane, s.image_z),
         pattern.name(),
         s.rays,
         s.vignetted
@@ -105,7 +118,14 @@ pub fn run(args: Args) -> CmdResult {
         s.geo_radius,
         s.geo_radius_chief
     );
-    outln!("  Airy radius         {:.6e} mm ({} nm)", s.airy_radius, traced.wavelength_nm());
+    let waves: Vec<String> = s
+        .wavelengths_nm
+        .iter()
+        .zip(&s.wavelength_weights)
+        .map(|(nm, w)| if s.wavelengths_nm.len() > 1 { format!("{nm} (weight {w})") } else { format!("{nm}") })
+        .collect();
+    outln!("  wavelengths, nm     {}", waves.join(", "));
+    outln!("  Airy radius         {:.6e} mm ({} nm)", s.airy_radius, p.wavelength_nm());
     outln!(
         "  best focus          {:+.6e} mm from this plane, RMS radius {:.6e} mm",
         s.best_focus_shift,

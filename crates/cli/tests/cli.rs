@@ -391,3 +391,35 @@ fn glass_outside_its_data_is_extrapolated_with_a_warning() {
     let (code, _, err) = lens(&[&["render", scene, "-o", p, "--strict-glass-range"][..], &small].concat());
     assert!(code == 0 && err.contains("spectral 370-830 nm") && !err.contains("warning"), "{err}");
 }
+
+/// `spot` takes every wavelength of the prescription with its weight
+/// unless given one; fans and spots name the plane they are on.
+#[test]
+fn spot_defaults_to_every_wavelength_on_the_image_surface() {
+    let (code, out, err) = lens(&["spot", "lens-data/achromat-doublet-100mm.json", "--field-deg", "2", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert_eq!(v["wavelengths_nm"], serde_json::json!([486.1327, 587.5618, 656.2725]));
+    assert_eq!(v["wavelength_weights"], serde_json::json!([1.0, 1.0, 1.0]));
+    assert_eq!(v["image_plane"], "image_surface");
+    let (_, out, _) = lens(&[
+        "spot",
+        "lens-data/achromat-doublet-100mm.json",
+        "--field-deg",
+        "2",
+        "--wavelength-nm",
+        "587.5618",
+        "--film",
+        "paraxial",
+        "--json",
+    ]);
+    let one = json(&out);
+    assert_eq!(one["wavelengths_nm"], serde_json::json!([587.5618]));
+    assert_eq!(one["image_plane"], "paraxial");
+    assert!(one["image_z"].as_f64() > v["image_z"].as_f64());
+    let (_, text, _) = lens(&["fan", "lens-data/achromat-doublet-100mm.json", "--film", "paraxial"]);
+    assert!(text.starts_with("ray fan at 0 deg on the paraxial image plane, z = "), "{text}");
+    let (_, text, _) = lens(&["spot", "lens-data/achromat-doublet-100mm.json"]);
+    assert!(text.contains("on the prescription's image surface, z = 103.568000 mm"), "{text}");
+    assert!(text.contains("486.1327 (weight 1), 587.5618 (weight 1), 656.2725 (weight 1)"), "{text}");
+}

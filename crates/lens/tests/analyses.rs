@@ -284,3 +284,65 @@ fn relative_illumination_is_a_falling_fraction_to_the_last_field() {
     }
     assert!(n >= 20);
 }
+
+/// Analyses evaluate on the prescription's own image surface by default
+/// (its last thickness, as Zemax and optiland do), on the paraxial image
+/// plane or a film when asked, and name the plane they used.
+#[test]
+fn analyses_default_to_the_prescriptions_image_surface() {
+    let p = Prescription::load(data_dir().join("achromat-doublet-100mm.json")).unwrap();
+    let p = p.with_film_distance(p.film_distance() - 0.3).unwrap();
+    let l = Launcher::new(&p, Field::Angle(2.0), Aim::Paraxial).unwrap();
+    let at = |plane| lens::analysis::spot::spot_with(&p, &l, Pattern::Gauss, 8, plane).unwrap();
+    let (image, paraxial) = (at(ImagePlane::default()), at(ImagePlane::Paraxial));
+    assert_eq!(image.image_z, p.total_track());
+    assert_eq!((image.image_plane, paraxial.image_plane), ("image_surface", "paraxial"));
+    assert_eq!(paraxial.image_z, l.paraxial_image_z(&p).unwrap());
+    assert!((paraxial.image_z - image.image_z - 0.3).abs() < 0.1, "{} {}", paraxial.image_z, image.image_z);
+    // the same rays, the planes 0.3 mm apart: the spot moves along its rays
+    assert!((image.rms_radius - paraxial.rms_at_shift(image.image_z - paraxial.image_z)).abs() < 1e-12);
+    let film = at(ImagePlane::Film(p.film_distance()));
+    assert_eq!((film.image_plane, film.image_z, film.rms_radius), ("film", image.image_z, image.rms_radius));
+    let fan = ray_fan(&p, Field::Angle(2.0), 5, Aim::Paraxial, ImagePlane::default()).unwrap();
+    assert_eq!((fan.image_plane, fan.image_z), ("image_surface", p.total_track()));
+}
+
+/// The polychromatic spot: each wavelength's rays as its own spot has them
+/// (same hits, in order), weighted by the wavelength's weight; one
+/// wavelength alone is its monochromatic spot; the statistics are those of
+/// the weighted union, about the primary's chief ray.
+#[test]
+fn polychromatic_spot_is_the_weighted_union_of_the_wavelengths() {
+    use lens::analysis::spot::{spot_polychromatic, spot_traced};
+    let p = Prescription::load(data_dir().join("achromat-doublet-100mm.json")).unwrap();
+    let l = Launcher::new(&p, Field::Angle(3.0), Aim::Paraxial).unwrap();
+    let plane = ImagePlane::default();
+    let mono: Vec<_> = p
+        .wavelengths_nm()
+        .iter()
+        .map(|&nm| spot_traced(&p, &p.at_wavelength(nm).unwrap(), &l, Pattern::Gauss, 10, plane).unwrap())
+        .collect();
+    let d = spot_polychromatic(&p, &l, Pattern::Gauss, 10, plane, &[(587.5618, 1.0)]).unwrap();
+    assert_eq!((d.rms_radius, d.hits.len()), (mono[1].rms_radius, mono[1].hits.len()));
+    let weights = [1.0, 2.0, 0.5];
+    let waves: Vec<(f64, f64)> = p.wavelengths_nm().iter().copied().zip(weights).collect();
+    let s = spot_polychromatic(&p, &l, Pattern::Gauss, 10, plane, &waves).unwrap();
+    assert_eq!(s.hits_per_wavelength, mono.iter().map(|m| m.hits.len()).collect::<Vec<_>>());
+    assert_eq!(s.wavelength_weights, weights.to_vec());
+    assert_eq!(s.chief, mono[1].chief);
+    // the weighted union by hand
+    let (mut sw, mut sx, mut sy) = (0.0, 0.0, 0.0);
+    let all: Vec<([f64; 4], f64)> = mono
+        .iter()
+        .zip(weights)
+        .flat_map(|(m, w)| m.hits.iter().zip(&m.weights).map(move |(h, x)| (*h, x * w)))
+        .collect();
+    for (h, w) in &all {
+        (sw, sx, sy) = (sw + w, sx + w * h[0], sy + w * h[1]);
+    }
+    let c = [sx / sw, sy / sw];
+    let ms: f64 = all.iter().map(|(h, w)| w * ((h[0] - c[0]).powi(2) + (h[1] - c[1]).powi(2))).sum::<f64>() / sw;
+    assert!((s.rms_radius - ms.sqrt()).abs() < 1e-15, "{} {}", s.rms_radius, ms.sqrt());
+    assert!((s.centroid[1] - c[1]).abs() < 1e-12);
+    assert!(spot_polychromatic(&p, &l, Pattern::Gauss, 10, plane, &[(587.5618, 0.0)]).is_err());
+}

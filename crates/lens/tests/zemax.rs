@@ -364,3 +364,25 @@ fn vignetting_factors_move_the_fans_rays() {
     let findings = Prescription::from_spec(&wrong).unwrap_err();
     assert!(findings.iter().any(|f| f.to_string().contains("2 vignetting_factors for 3 fields_deg")), "{findings:?}");
 }
+
+/// Wavelength weights (`WAVM slot µm weight`) are read and written; all 1
+/// is the default and is not written into the JSON.
+#[test]
+fn wavelength_weights_round_trip() {
+    let json = r#"{"wavelengths_nm": [486.1327, 587.5618, 656.2725], "wavelength_weights": [1, 2, 0.5], "surfaces": [
+        {"radius": 50, "thickness": 4, "glass": "SCHOTT:N-BK7", "semi_diameter": 10, "stop": true},
+        {"thickness": 90, "semi_diameter": 10}]}"#;
+    let p = Prescription::from_json_str(json, "<w>").unwrap();
+    assert_eq!(p.wavelength_weights(), vec![1.0, 2.0, 0.5]);
+    let text = write(&p).unwrap();
+    assert!(text.contains("WAVM 3 6.562725E-1 5E-1"), "{text}");
+    let q = Prescription::from_spec(&read(&text, Catalogs::shipped()).unwrap()).unwrap();
+    assert_eq!(q.wavelength_weights(), p.wavelength_weights());
+    let plain =
+        Prescription::from_spec(&read(&write(&q.at_wavelength(500.0).unwrap()).unwrap(), Catalogs::shipped()).unwrap());
+    assert!(plain.is_ok());
+    for bad in ["[1, 2]", "[0, 0, 0]", "[1, -1, 1]"] {
+        let e = Prescription::from_json_str(&json.replace("[1, 2, 0.5]", bad), "<w>").unwrap_err().to_string();
+        assert!(e.contains("wavelength_weights"), "{bad}: {e}");
+    }
+}

@@ -27,25 +27,31 @@ pub fn spot_chart(spots: &[SpotDiagram], name: &str) -> String {
             // moire patterns of the ring patterns); the statistics in the
             // title use them all
             let every = s.hits.len().div_ceil(MAX_DRAWN).max(1) as u64;
-            let pts = s
-                .hits
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| every == 1 || mix(*i as u64).is_multiple_of(every))
-                .map(|(_, h)| ((h[0] - s.chief[0]) * 1e3, (h[1] - s.chief[1]) * 1e3))
-                .collect();
             let drawn = if every > 1 { format!(", 1 in {every} drawn") } else { String::new() };
+            // one series per wavelength, coloured by it where there are several
+            let mut series = Vec::new();
+            let mut start = 0;
+            for (w, &count) in s.hits_per_wavelength.iter().enumerate() {
+                let pts = (start..start + count)
+                    .filter(|i| every == 1 || mix(*i as u64).is_multiple_of(every))
+                    .map(|i| ((s.hits[i][0] - s.chief[0]) * 1e3, (s.hits[i][1] - s.chief[1]) * 1e3))
+                    .collect();
+                start += count;
+                let (label, colour) = match (s.wavelengths_nm.len(), s.wavelengths_nm.get(w)) {
+                    (2.., Some(&nm)) => (format!("{nm} nm, {count} rays"), crate::chromatic::wavelength_color(nm)),
+                    _ => (
+                        format!("{} rays, {} vignetted{drawn}", s.rays, s.vignetted),
+                        PALETTE[k % PALETTE.len()].to_string(),
+                    ),
+                };
+                series.push(Series::new(label, pts, &colour, Style::Dots(1.4)));
+            }
             let field = s.field_deg.map_or("finite object".to_string(), |d| format!("{d} deg"));
             Panel {
                 title: format!("{field}: RMS {:.2} µm, GEO {:.2} µm", s.rms_radius * 1e3, s.geo_radius * 1e3),
                 x_label: "x - chief (µm)".into(),
                 y_label: "y - chief (µm)".into(),
-                series: vec![Series::new(
-                    format!("{} rays, {} vignetted{drawn}", s.rays, s.vignetted),
-                    pts,
-                    PALETTE[k % PALETTE.len()],
-                    Style::Dots(1.4),
-                )],
+                series,
                 circles: vec![Circle {
                     center: (0.0, 0.0),
                     radius: s.airy_radius * 1e3,

@@ -41,6 +41,9 @@ pub struct SagittalPoint {
 pub struct RayFan {
     /// Field angle, degrees (object at infinity), or `None` for a finite object.
     pub field_deg: Option<f64>,
+    /// Which plane the fans are on: `"image_surface"` (the prescription's
+    /// own, its last thickness), `"paraxial"` or `"film"` (a distance given).
+    pub image_plane: &'static str,
     /// z of the image plane used, mm from the first vertex.
     pub image_z: f64,
     /// Chief ray on the image plane, mm.
@@ -63,8 +66,12 @@ pub struct RayFan {
 }
 
 /// Where rays are evaluated.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum ImagePlane {
+    /// The prescription's own image surface: its last thickness behind the
+    /// last vertex (Zemax's and optiland's image surface), the default.
+    #[default]
+    ImageSurface,
     /// The paraxial image plane of the field's object.
     Paraxial,
     /// A film this many mm behind the last vertex.
@@ -72,9 +79,20 @@ pub enum ImagePlane {
 }
 
 impl ImagePlane {
+    /// The plane's name in outputs: `"image_surface"`, `"paraxial"` or
+    /// `"film"`.
+    pub fn name(&self) -> &'static str {
+        match self {
+            ImagePlane::ImageSurface => "image_surface",
+            ImagePlane::Paraxial => "paraxial",
+            ImagePlane::Film(_) => "film",
+        }
+    }
+
     /// z from the first vertex of this plane for `launcher`'s object.
     pub fn z(&self, p: &Prescription, launcher: &Launcher) -> Result<f64, OpticsError> {
         match *self {
+            ImagePlane::ImageSurface => Ok(p.total_track()),
             ImagePlane::Paraxial => launcher.paraxial_image_z(p),
             ImagePlane::Film(d) if d.is_finite() => Ok(p.last_vertex_z() + d),
             ImagePlane::Film(d) => Err(OpticsError::BadInput {
@@ -158,6 +176,7 @@ pub fn fan_traced(
     };
     Ok(RayFan {
         field_deg,
+        image_plane: plane.name(),
         image_z,
         chief,
         tangential,

@@ -23,6 +23,9 @@ pub const MAX_RAYS: usize = 50_000_000;
 pub struct SpotDiagram {
     /// Field angle, degrees, or `None` for a finite object.
     pub field_deg: Option<f64>,
+    /// Which plane the spot is on: `"image_surface"` (the prescription's
+    /// own, its last thickness), `"paraxial"` or `"film"` (a distance given).
+    pub image_plane: &'static str,
     /// z of the image plane, mm from the first vertex.
     pub image_z: f64,
     /// Rays that reached the image plane.
@@ -63,6 +66,14 @@ pub struct SpotDiagram {
     /// nearest design field's), where it has any.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vignetting_factors: Option<crate::model::VignettingFactors>,
+    /// The wavelengths traced, nm (one for a monochromatic spot).
+    pub wavelengths_nm: Vec<f64>,
+    /// Each wavelength's weight (its rays' pupil weights are multiplied by
+    /// it over the sum of the weights).
+    pub wavelength_weights: Vec<f64>,
+    /// How many of `hits` (in order) each wavelength gave.
+    #[serde(skip)]
+    pub hits_per_wavelength: Vec<usize>,
 }
 
 impl SpotDiagram {
@@ -178,10 +189,7 @@ pub fn spot_traced(
     }
     let image_z = plane.z(p, launcher)?;
     let tracer = Tracer::forward_to_film(traced, image_z - p.last_vertex_z());
-    let chief = {
-        let ray = Bundle::trace(launcher, &tracer, vec![(0.0, 0.0)])?.landings[0].chief(field)?;
-        [ray.origin.x, ray.origin.y]
-    };
+    let chief = chief_on(launcher, &tracer)?;
     let mut hits = Vec::new();
     let mut weights = Vec::new();
     let (mut vignetted, mut aim_failures) = (0, 0);
@@ -228,6 +236,7 @@ pub fn spot_traced(
             Field::Angle(d) => Some(d),
             Field::Height { .. } => None,
         },
+        image_plane: plane.name(),
         image_z,
         rays: hits.len(),
         vignetted,
@@ -241,15 +250,115 @@ pub fn spot_traced(
         airy_radius: 1.22 * traced.wavelength_nm() * 1e-6 * wfn,
         best_focus_shift: 0.0,
         rms_radius_best_focus: 0.0,
+        hits_per_wavelength: vec![hits.len()],
         hits,
         weights,
         vignetting_factors: (!vig.is_none()).then_some(vig),
+        wavelengths_nm: vec![traced.wavelength_nm()],
+        wavelength_weights: vec![1.0],
     };
     let (pp, ps, ss) = st.moments;
     spot.best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };
     let dz = spot.best_focus_shift;
     spot.rms_radius_best_focus = (pp + 2.0 * dz * ps + dz * dz * ss).max(0.0).sqrt();
     Ok(spot)
+}
+
+/// Where `launcher`'s chief ray lands through `tracer`.
+fn chief_on(launcher: &Launcher, tracer: &Tracer) -> Result<[f64; 2], OpticsError> {
+    let ray = Bundle::trace(launcher, tracer, vec![(0.0, 0.0)])?.landings[0].chief(launcher.field())?;
+    Ok([ray.origin.x, ray.origin.y])
+}
+
+/// The spot of several wavelengths together, as Zemax draws a
+/// polychromatic spot: `wavelengths` are (nm, weight) pairs; each
+/// wavelength's rays are traced through `p` at that wavelength from the
+/// primary wavelength's pupils onto the primary's `plane`, each ray
+/// weighted by its share of the pupil times its wavelength's weight over
+/// the sum of the weights. The chief ray and the Airy radius are the
+/// primary wavelength's. One wavelength of weight 1 gives
+/// [`spot_traced`]'s spot.
+///
+/// ```
+/// use lens::analysis::{fan::ImagePlane, pattern::Pattern, spot::spot_polychromatic, Aim, Field, Launcher};
+/// let p = lens::Prescription::load("../../lens-data/achromat-fc-100mm.json").unwrap();
+/// let l = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+/// let waves: Vec<(f64, f64)> = p.wavelengths_nm().iter().map(|&w| (w, 1.0)).collect();
+/// let s = spot_polychromatic(&p, &l, Pattern::Gauss, 8, ImagePlane::Paraxial, &waves).unwrap();
+/// assert_eq!(s.wavelengths_nm.len(), 3);
+/// assert_eq!(s.hits.len(), s.hits_per_wavelength.iter().sum::<usize>());
+/// ```
+pub fn spot_polychromatic(
+    p: &Prescription,
+    launcher: &Launcher,
+    pattern: Pattern,
+    n: usize,
+    plane: ImagePlane,
+    wavelengths: &[(f64, f64)],
+) -> Result<SpotDiagram, OpticsError> {
+    let total: f64 = wavelengths.iter().map(|w| w.1).sum();
+    if wavelengths.is_empty() || !wavelengths.iter().all(|w| w.1.is_finite() && w.1 >= 0.0) || total <= 0.0 {
+        return Err(OpticsError::BadInput {
+            name: "wavelength weights",
+            value: total,
+            expected: "at least one wavelength, weights finite and >= 0, at least one above 0",
+        });
+    }
+    let image_z = plane.z(p, launcher)?;
+    let chief = chief_on(launcher, &Tracer::forward_to_film(p, image_z - p.last_vertex_z()))?;
+    let mut spots = Vec::with_capacity(wavelengths.len());
+    for &(nm, w) in wavelengths {
+        let q = p.at_wavelength(nm)?;
+        let s = match spot_traced(p, &q, launcher, pattern, n, plane) {
+            Ok(s) => s,
+            // a wavelength of no weight that is all vignetted takes no part
+            Err(_) if w == 0.0 => continue,
+            Err(e) => return Err(e),
+        };
+        spots.push((nm, w, s));
+    }
+    let mut hits = Vec::new();
+    let mut weights = Vec::new();
+    let (mut vignetted, mut aim_failures, mut per) = (0, 0, Vec::new());
+    for (_, w, s) in &spots {
+        hits.extend_from_slice(&s.hits);
+        weights.extend(s.weights.iter().map(|x| x * w / total));
+        vignetted += s.vignetted;
+        aim_failures += s.aim_failures;
+        per.push(s.hits.len());
+    }
+    let st = Stats::of(&hits, &weights, chief);
+    let field = launcher.field();
+    let wfn = imaging(p, launcher.first_order(), field.object())?.working_f_number;
+    let (pp, ps, ss) = st.moments;
+    let best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };
+    let dz = best_focus_shift;
+    Ok(SpotDiagram {
+        field_deg: match field {
+            Field::Angle(d) => Some(d),
+            Field::Height { .. } => None,
+        },
+        image_plane: plane.name(),
+        image_z,
+        rays: hits.len(),
+        vignetted,
+        aim_failures,
+        centroid: st.centroid,
+        rms_radius: st.rms_radius,
+        rms_radius_chief: st.rms_radius_chief,
+        geo_radius: st.geo_radius,
+        geo_radius_chief: st.geo_radius_chief,
+        chief,
+        airy_radius: 1.22 * p.wavelength_nm() * 1e-6 * wfn,
+        best_focus_shift,
+        rms_radius_best_focus: (pp + 2.0 * dz * ps + dz * dz * ss).max(0.0).sqrt(),
+        hits,
+        weights,
+        vignetting_factors: spots.first().and_then(|s| s.2.vignetting_factors),
+        wavelengths_nm: spots.iter().map(|s| s.0).collect(),
+        wavelength_weights: spots.iter().map(|s| s.1).collect(),
+        hits_per_wavelength: per,
+    })
 }
 
 /// The spot's statistics in two passes over the hits (sums, then

@@ -27,6 +27,8 @@ pub struct Prescription {
     glasses: Arc<[Glass]>,
     /// The system's wavelengths, nm.
     wavelengths_nm: Vec<f64>,
+    /// Each wavelength's weight (`None`: 1 each).
+    wavelength_weights: Option<Vec<f64>>,
     /// The primary wavelength, nm.
     primary_nm: f64,
     /// The wavelength the surfaces' `ior` are for, nm.
@@ -118,6 +120,7 @@ impl Prescription {
             stop,
             glasses: glasses.into(),
             wavelengths_nm,
+            wavelength_weights: spec.wavelength_weights.clone(),
             primary_nm,
             wavelength_nm: primary_nm,
             glass_catalogs: spec.glass_catalogs.clone(),
@@ -232,6 +235,12 @@ impl Prescription {
         &self.wavelengths_nm
     }
 
+    /// Each wavelength's weight in polychromatic analyses, in the order of
+    /// [`Self::wavelengths_nm`] (1 each unless the file gives weights).
+    pub fn wavelength_weights(&self) -> Vec<f64> {
+        self.wavelength_weights.clone().unwrap_or_else(|| vec![1.0; self.wavelengths_nm.len()])
+    }
+
     /// The glasses the surfaces name.
     pub fn glasses(&self) -> &[Glass] {
         &self.glasses
@@ -259,6 +268,7 @@ impl Prescription {
             source: self.source.clone(),
             units: Some("mm".into()),
             wavelengths_nm: (self.wavelengths_nm != DEFAULT_WAVELENGTHS_NM).then(|| self.wavelengths_nm.clone()),
+            wavelength_weights: self.wavelength_weights.clone(),
             primary_wavelength_nm: (self.primary_nm != LINE_D_NM).then_some(self.primary_nm),
             glass_catalogs: self.glass_catalogs.clone(),
             fields_deg: self.fields_deg.clone(),

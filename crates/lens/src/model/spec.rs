@@ -32,6 +32,11 @@ pub struct PrescriptionSpec {
     /// 656.2725).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wavelengths_nm: Option<Vec<f64>>,
+    /// The weight of each wavelength of `wavelengths_nm` in polychromatic
+    /// analyses (a spot's rays, as Zemax's wavelength weights; default 1
+    /// each): finite, >= 0, not all 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wavelength_weights: Option<Vec<f64>>,
     /// The primary wavelength, nm (default d, 587.5618): the pupils and the
     /// image plane of the analyses are this wavelength's.
     #[serde(default, skip_serializing_if = "Option::is_none")]

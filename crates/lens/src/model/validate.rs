@@ -59,13 +59,34 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
             );
         }
     }
+    if let Some(weights) = &spec.wavelength_weights {
+        let count = spec.wavelengths_nm.as_ref().map_or(3, Vec::len);
+        if weights.len() != count {
+            out.push(
+                Severity::Error,
+                None,
+                Some("wavelength_weights"),
+                format!(
+                    "{} wavelength_weights for {count} wavelengths: give one weight per wavelength of wavelengths_nm (F, d, C when it is not given), in its order",
+                    weights.len()
+                ),
+            );
+        } else if !weights.iter().all(|w| w.is_finite() && *w >= 0.0) || !weights.iter().any(|w| *w > 0.0) {
+            out.push(
+                Severity::Error,
+                None,
+                Some("wavelength_weights"),
+                "wavelength_weights must be finite numbers >= 0, at least one above 0".into(),
+            );
+        }
+    }
     if let Some(w) = spec.primary_wavelength_nm {
         if !good_nm(&w) {
             out.push(
                 Severity::Error,
                 None,
                 Some("primary_wavelength_nm"),
-                format!("primary_wavelength_nm = {w}: give a positive wavelength in nm"),
+                format!("primary_wavelength_nm = {}: give a positive wavelength in nm", crate::error::exact(w)),
             );
         }
     }

@@ -62,6 +62,8 @@ struct File {
     vignetting: [Vec<f64>; 5],
     vignetting_line: usize,
     waves: Vec<(usize, f64)>,
+    /// Each wavelength slot's weight (`WAVM slot µm weight`).
+    wave_weights: Vec<(usize, f64)>,
     primary: Option<usize>,
     gcat: Vec<String>,
     blocks: Vec<Block>,
@@ -263,6 +265,10 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
                 let slot = number(tok.get(1), line, "WAVM slot")? as usize;
                 f.waves.retain(|w| w.0 != slot);
                 f.waves.push((slot, number(tok.get(2), line, "WAVM wavelength")?));
+                f.wave_weights.retain(|w| w.0 != slot);
+                if tok.len() > 3 {
+                    f.wave_weights.push((slot, number(tok.get(3), line, "WAVM weight")?));
+                }
             }
             "WAVL" => {
                 for (k, t) in tok[1..].iter().enumerate() {
@@ -413,6 +419,8 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
     let to_nm = |um: f64| (um * 1e12).round() / 1e9;
     let nm: Vec<f64> = waves.iter().map(|w| to_nm(w.1)).collect();
     let primary = f.primary.and_then(|p| waves.iter().find(|w| w.0 == p)).map(|w| to_nm(w.1));
+    let weights: Vec<f64> =
+        waves.iter().map(|w| f.wave_weights.iter().find(|x| x.0 == w.0).map_or(1.0, |x| x.1)).collect();
     // angles as they are; heights become angles once the lens is built
     // (`set_fields`)
     let fields = if f.field_type.unwrap_or(0) == 0 { radial_fields(f) } else { Vec::new() };
@@ -423,6 +431,7 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
         // source it writes)
         source: (!notes.is_empty()).then(|| format!("glasses outside the file's GCAT vendors: {}", notes.join("; "))),
         units: Some("mm".into()),
+        wavelength_weights: (!nm.is_empty() && weights.iter().any(|w| *w != 1.0)).then_some(weights),
         wavelengths_nm: (!nm.is_empty()).then_some(nm),
         primary_wavelength_nm: primary,
         fields_deg: (!fields.is_empty()).then_some(fields),

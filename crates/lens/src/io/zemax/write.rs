@@ -67,9 +67,11 @@ pub fn write(p: &Prescription) -> Result<String, String> {
         line(format!("GCAT {}", vendors.join(" ")));
     }
     let mut waves: Vec<f64> = p.wavelengths_nm().to_vec();
+    let mut weights = p.wavelength_weights();
     let primary = p.primary_wavelength_nm();
     let pw = waves.iter().position(|w| *w == primary).unwrap_or_else(|| {
         waves.push(primary);
+        weights.push(0.0);
         waves.len() - 1
     });
     let fields: Vec<f64> = if p.fields_deg().is_empty() { vec![0.0] } else { p.fields_deg().to_vec() };
@@ -86,8 +88,8 @@ pub fn write(p: &Prescription) -> Result<String, String> {
         line(row("VCXN", |v| v.compress_x));
         line(row("VCYN", |v| v.compress_y));
     }
-    for (i, w) in waves.iter().enumerate() {
-        line(format!("WAVM {} {} 1", i + 1, z(w / 1000.0)));
+    for (i, (w, weight)) in waves.iter().zip(&weights).enumerate() {
+        line(format!("WAVM {} {} {}", i + 1, z(w / 1000.0), z(*weight)));
     }
     line(format!("PWAV {}", pw + 1));
     line("SURF 0".into());

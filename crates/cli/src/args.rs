@@ -46,7 +46,11 @@ impl LensArgs {
     /// Loads the prescription as the file has it (its stop not resized).
     pub fn load_as_written(&self) -> Result<lens::Prescription, Box<dyn std::error::Error>> {
         let extra = self.catalogs.user_catalogs()?;
-        Ok(lens::Prescription::load_with(&self.file, extra)?)
+        let p = lens::Prescription::load_with(&self.file, extra)?;
+        for w in p.warnings() {
+            crate::warnings::warn("prescription", w);
+        }
+        Ok(p)
     }
 
     /// Loads the prescription (at its primary wavelength, its glasses'

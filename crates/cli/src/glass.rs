@@ -42,7 +42,14 @@ pub fn run(a: Args) -> CmdResult {
             return Ok(ExitCode::SUCCESS);
         }
     }
-    let glasses = a.names.iter().map(|n| cats.find(n)).collect::<Result<Vec<_>, _>>()?;
+    let mut glasses = Vec::with_capacity(a.names.len());
+    for n in &a.names {
+        let (g, note) = cats.resolve(n)?;
+        if let Some(note) = note {
+            crate::warnings::warn("glass_name", note);
+        }
+        glasses.push(g);
+    }
     let nm = a.wavelength.wavelength_nm.unwrap_or(LINE_D_NM);
     if let (Some(out), false) = (&a.plot.plot, a.map) {
         plot::save(&plot::glass::dispersion_chart(&glasses), out)?;

@@ -386,3 +386,45 @@ fn wavelength_weights_round_trip() {
         assert!(e.contains("wavelength_weights"), "{bad}: {e}");
     }
 }
+
+/// Glass names as old Zemax files and patents write them: SCHOTT's retired
+/// `BK7` with `GCAT SCHOTT` is its successor N-BK7; `SK16`, retired by
+/// SCHOTT and kept by HIKARI, is HIKARI's; `LAF2`, kept by HOYA and HIKARI,
+/// is the first of the recorded type; each substitution is a warning of the
+/// prescription. A recorded nd/vd of another type is still refused.
+#[test]
+fn retired_glass_names_resolve_with_a_warning() {
+    let file = |glass: &str| {
+        ASPHERIC_ZMX.replace("GCAT OHARA SCHOTT", "GCAT SCHOTT").replace("GLAS N-BK7 0 0 1.5168 64.17", glass)
+    };
+    for (glass, want) in [
+        ("GLAS BK7 0 0 1.5168 64.17", "SCHOTT:N-BK7"),
+        ("GLAS BK7", "SCHOTT:N-BK7"),
+        ("GLAS SK16 0 0 1.62041 60.32", "HIKARI:SK16"),
+        ("GLAS LAF2 0 0 1.744 44.72", "HOYA:LAF2"),
+    ] {
+        let spec = read(&file(glass), Catalogs::shipped()).unwrap_or_else(|e| panic!("{glass}: {e:?}"));
+        assert_eq!(spec.surfaces[0].glass, Some(lens::model::GlassSpec::Name(want.into())), "{glass}");
+        let p = Prescription::from_spec(&spec).unwrap();
+        assert!(
+            p.warnings().iter().any(|w| w.contains("surface 1") && w.contains(want)),
+            "{glass}: {:?}",
+            p.warnings()
+        );
+    }
+    let e = read(&file("GLAS BK7 0 0 1.7 30"), Catalogs::shipped()).unwrap_err();
+    assert!(e.message.contains("BK7") && e.message.contains("another glass"), "{e:?}");
+    // in a JSON prescription too, and `glass BK7` offers N-BK7 first
+    let p = Prescription::from_json_str(
+        r#"{"surfaces": [{"radius": 50, "thickness": 4, "glass": "BK7", "semi_diameter": 10, "stop": true},
+            {"thickness": 90, "semi_diameter": 10}]}"#,
+        "<bk7>",
+    )
+    .unwrap();
+    assert_eq!(p.glasses()[0].full_name(), "SCHOTT:N-BK7");
+    assert!(p.warnings()[0].contains("successor SCHOTT:N-BK7"), "{:?}", p.warnings());
+    match Catalogs::shipped().find("BK7") {
+        Err(lens::glass::GlassError::Unknown { suggestions, .. }) => assert_eq!(suggestions[0], "SCHOTT:N-BK7"),
+        other => panic!("{other:?}"),
+    }
+}

@@ -164,6 +164,75 @@ impl Catalogs {
         }
     }
 
+    /// A glass by name as [`Self::find`], or, for a retired name no loaded
+    /// catalogue has (`BK7`, `SCHOTT:SK16`, as old Zemax files and patents
+    /// write them), the vendor's successor: the one glass named with a
+    /// vendor's new-series prefix (`N-BK7`, `N-SK16`; OHARA's `S-`, HOYA's
+    /// and HIKARI's `E-` and `J-`, CDGM's `H-`), with the warning to report
+    /// (`None` when the name was found as written).
+    ///
+    /// ```
+    /// let (g, warning) = lens::glass::Catalogs::shipped().resolve("BK7").unwrap();
+    /// assert_eq!(g.full_name(), "SCHOTT:N-BK7");
+    /// assert!(warning.unwrap().contains("successor SCHOTT:N-BK7"));
+    /// ```
+    pub fn resolve(&self, name: &str) -> Result<(&Glass, Option<String>), GlassError> {
+        let err = match self.find(name) {
+            Ok(g) => return Ok((g, None)),
+            Err(e @ GlassError::Unknown { .. }) => e,
+            Err(e) => return Err(e),
+        };
+        // the first prefix (in SUCCESSOR_PREFIXES' order) that names one glass
+        let found =
+            SUCCESSOR_PREFIXES.iter().find_map(|prefix| match self.successors_with(name, &[prefix]).as_slice() {
+                [] => None,
+                [g] => Some(Some(*g)),
+                _ => Some(None),
+            });
+        match found.flatten() {
+            Some(g) => Ok((
+                g,
+                Some(format!(
+                    "glass \"{}\" is a retired name no loaded catalogue has; using its successor {} (nd {}, vd {}): \
+                     write {} to choose it, or give the old glass's catalogue with --glass-catalog",
+                    name.trim(),
+                    g.full_name(),
+                    g.catalog_nd.map_or_else(|| "?".into(), |v| format!("{v}")),
+                    g.catalog_vd.map_or_else(|| "?".into(), |v| format!("{v}")),
+                    g.full_name()
+                )),
+            )),
+            None => Err(err),
+        }
+    }
+
+    /// The glasses a retired `name` may have become: the vendor's (or any
+    /// vendor's, for a bare name) glass of the same name with a new-series
+    /// prefix.
+    fn successors(&self, name: &str) -> Vec<&Glass> {
+        self.successors_with(name, &SUCCESSOR_PREFIXES)
+    }
+
+    /// [`Self::successors`] with these prefixes only.
+    fn successors_with(&self, name: &str, prefixes: &[&str]) -> Vec<&Glass> {
+        let name = name.trim();
+        let (vendor, glass) = match name.split_once(':') {
+            Some((v, g)) => (Some(v.trim()), g.trim()),
+            None => (None, name),
+        };
+        let mut out: Vec<&Glass> = Vec::new();
+        for c in self.catalogs.iter().filter(|c| vendor.is_none_or(|v| c.name.eq_ignore_ascii_case(v))) {
+            for prefix in prefixes {
+                if let Some(g) = c.get(&format!("{prefix}{glass}")) {
+                    if !out.iter().any(|o| o.full_name() == g.full_name()) {
+                        out.push(g);
+                    }
+                }
+            }
+        }
+        out
+    }
+
     fn unknown(&self, name: &str) -> GlassError {
         let key = name.rsplit(':').next().unwrap_or(name).to_ascii_uppercase();
         let mut scored: Vec<(usize, String)> = self
@@ -174,15 +243,26 @@ impl Catalogs {
             .collect();
         scored.sort();
         let best = scored.first().map_or(usize::MAX, |s| s.0);
-        let suggestions = scored
-            .into_iter()
-            .take_while(|s| s.0 <= best + 1 && s.0 <= 3 + key.len() / 3)
-            .take(5)
-            .map(|s| s.1)
-            .collect();
+        // a retired name's successors first (BK7: N-BK7), then the nearest
+        let mut suggestions: Vec<String> = self.successors(name).iter().map(|g| g.full_name()).collect();
+        for s in scored.into_iter().take_while(|s| s.0 <= best + 1 && s.0 <= 3 + key.len() / 3) {
+            if suggestions.len() >= 5 {
+                break;
+            }
+            if !suggestions.contains(&s.1) {
+                suggestions.push(s.1);
+            }
+        }
         GlassError::Unknown { name: name.to_string(), suggestions }
     }
 }
+
+/// The prefixes vendors gave their new (lead- and arsenic-free, or
+/// environmentally safe) series of old glass types, in the order a retired
+/// name is resolved: SCHOTT `N-` (most old names in files are SCHOTT's),
+/// OHARA `S-`, HOYA and HIKARI `E-`, HIKARI `J-`, CDGM `H-`, then the
+/// moulding glasses' `P-` and `D-`.
+const SUCCESSOR_PREFIXES: [&str; 7] = ["N-", "S-", "E-", "J-", "H-", "P-", "D-"];
 
 /// Levenshtein distance between two names.
 fn distance(a: &str, b: &str) -> usize {

@@ -41,6 +41,9 @@ pub struct Prescription {
     vignetting_factors: Option<Vec<VignettingFactors>>,
     /// The design's object distance, mm (`None`: infinity).
     object_distance_mm: Option<f64>,
+    /// What building it had to decide, for the user (retired glass names
+    /// taken as their successors).
+    warnings: Vec<String>,
 }
 
 impl Prescription {
@@ -65,12 +68,16 @@ impl Prescription {
             LINE_D_NM
         });
         let mut glasses: Vec<Glass> = Vec::new();
+        let mut warnings = spec.warnings.clone();
         let mut surfaces: Vec<Surface> = Vec::with_capacity(spec.surfaces.len());
         for (i, s) in spec.surfaces.iter().enumerate() {
             let mut surf = surface_from_spec(s);
             if let Some(g) = &s.glass {
                 let found = match g {
-                    GlassSpec::Name(name) => catalogs.find(name).cloned(),
+                    GlassSpec::Name(name) => catalogs.resolve(name).map(|(g, w)| {
+                        warnings.extend(w.map(|w| format!("surface {}: {w}", i + 1)));
+                        g.clone()
+                    }),
                     GlassSpec::Model { nd, vd } => Glass::model(*nd, *vd),
                 };
                 match found {
@@ -127,7 +134,16 @@ impl Prescription {
             fields_deg: spec.fields_deg.clone(),
             vignetting_factors: spec.vignetting_factors.clone(),
             object_distance_mm: spec.object_distance_mm,
+            warnings,
         })
+    }
+
+    /// What building the prescription had to decide that its user should
+    /// know, one sentence each: a retired glass name taken as the vendor's
+    /// successor ([`Catalogs::resolve`]), a Zemax file's glass found outside
+    /// its `GCAT` vendors.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// The same system at `wavelength_nm`: every glass's index at that
@@ -274,6 +290,7 @@ impl Prescription {
             fields_deg: self.fields_deg.clone(),
             vignetting_factors: self.vignetting_factors.clone(),
             object_distance_mm: self.object_distance_mm,
+            warnings: Vec::new(),
             surfaces: self
                 .surfaces
                 .iter()

@@ -61,6 +61,11 @@ pub struct PrescriptionSpec {
     pub object_distance_mm: Option<f64>,
     /// Surfaces, object side first.
     pub surfaces: Vec<SurfaceSpec>,
+    /// What reading the file had to decide that its user should know (a
+    /// Zemax file's retired glass name taken as its successor, say), one
+    /// sentence each; not part of the file format.
+    #[serde(skip)]
+    pub warnings: Vec<String>,
 }
 
 /// How a field's rays fill the entrance pupil, as Zemax's vignetting

@@ -430,6 +430,7 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
         // what the import had to decide (read by `io::load_spec` into the
         // source it writes)
         source: (!notes.is_empty()).then(|| format!("glasses outside the file's GCAT vendors: {}", notes.join("; "))),
+        warnings: notes.clone(),
         units: Some("mm".into()),
         wavelength_weights: (!nm.is_empty() && weights.iter().any(|w| *w != 1.0)).then_some(weights),
         wavelengths_nm: (!nm.is_empty()).then_some(nm),

@@ -1,8 +1,9 @@
 //! The files a command will write, checked before it does any work: each
 //! has an extension the command can write, a folder that exists and takes
-//! new files, and is none of the command's inputs nor another of its
-//! outputs. (Each is then written completely or not at all:
-//! `lens::io::files::write_atomic`.)
+//! new files (that of a symbolic link's target: the link is kept), and is
+//! none of the command's inputs nor another of its outputs. (Each is then
+//! written completely or not at all, `lens::io::files::write_atomic`; a
+//! device such as `/dev/null` in place, its write errors reported.)
 
 use std::path::{Path, PathBuf};
 
@@ -45,23 +46,32 @@ pub fn check(outputs: &[Output], inputs: &[PathBuf]) -> Result<(), String> {
             let list: Vec<String> = o.extensions.iter().map(|e| format!(".{e}")).collect();
             return Err(format!("{} {shown}: choose a file ending in {}", o.flag, list.join(" or ")));
         }
-        let dir = match o.path.parent() {
+        // a link is kept and the file it points to written
+        let target = lens::io::files::write_target(o.path).map_err(|e| format!("{} {shown}: {e}", o.flag))?;
+        let dir = match target.parent() {
             Some(d) if !d.as_os_str().is_empty() => d,
             _ => Path::new("."),
         };
         if !dir.is_dir() {
             return Err(format!("{} {shown}: the folder {} does not exist", o.flag, dir.display()));
         }
-        if o.path.is_dir() {
+        if target.is_dir() {
             return Err(format!("{} {shown}: is a folder; give a file name", o.flag));
         }
-        // the folder must take a new file (the write goes through one)
-        let probe = dir.join(format!(".lens-write-check.{}", std::process::id()));
-        match std::fs::File::create(&probe) {
-            Ok(_) => {
-                let _ = std::fs::remove_file(&probe);
+        if lens::io::files::is_special(&target) {
+            // a device or pipe is written in place, its errors reported
+            if let Err(e) = std::fs::OpenOptions::new().write(true).open(&target) {
+                return Err(format!("{} {shown}: cannot write to it: {e}", o.flag));
             }
-            Err(e) => return Err(format!("{} {shown}: cannot write in {}: {e}", o.flag, dir.display())),
+        } else {
+            // the folder must take a new file (the write goes through one)
+            let probe = dir.join(format!(".lens-write-check.{}", std::process::id()));
+            match std::fs::File::create(&probe) {
+                Ok(_) => {
+                    let _ = std::fs::remove_file(&probe);
+                }
+                Err(e) => return Err(format!("{} {shown}: cannot write in {}: {e}", o.flag, dir.display())),
+            }
         }
         let r = resolved(o.path);
         if let Some(i) = ins.iter().position(|i| *i == r) {

@@ -339,3 +339,36 @@ fn no_inf_or_nan_reaches_standard_output() {
     .unwrap();
     refused(&["info", p.to_str().unwrap(), "--json"], &["surface 1", "semi_diameter"]);
 }
+
+/// An output that is a symbolic link keeps the link and writes its target
+/// (a relative link to a file not there yet, a chain of links); a device
+/// is refused before any work, or its write error is exit 1.
+#[cfg(unix)]
+#[test]
+fn outputs_through_links_keep_the_link() {
+    let d = scratch("links");
+    std::fs::create_dir_all(d.join("renders")).unwrap();
+    std::os::unix::fs::symlink("renders/x.png", d.join("latest.png")).unwrap();
+    std::os::unix::fs::symlink(d.join("latest.png"), d.join("again.png")).unwrap();
+    for (link, args) in [
+        (
+            "latest.png",
+            vec!["render", "lens-data/scenes/dof-pinhole.json", "--width", "8", "--height", "8", "--spp", "1", "-o"],
+        ),
+        ("again.png", vec!["layout", DG, "-o"]),
+    ] {
+        let path = d.join(link);
+        let out = lens(&[&args[..], &[path.to_str().unwrap()]].concat());
+        assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(std::fs::symlink_metadata(&path).unwrap().file_type().is_symlink(), "{link} was replaced");
+        let png = std::fs::read(d.join("renders/x.png")).unwrap();
+        assert!(png.starts_with(b"\x89PNG"), "{link}");
+    }
+    assert_eq!(std::fs::read_dir(d.join("renders")).unwrap().count(), 1, "a temporary file stayed behind");
+    if Path::new("/dev/full").exists() {
+        refused(&["layout", DG, "-o", "/dev/full"], &["-o", "/dev/full"]);
+        std::os::unix::fs::symlink("/dev/full", d.join("full.json")).unwrap();
+        let full = d.join("full.json");
+        refused(&["convert", DG, "-o", full.to_str().unwrap()], &["No space left"]);
+    }
+}

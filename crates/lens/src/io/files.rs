@@ -58,15 +58,52 @@ pub fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
     Ok(bytes)
 }
 
+/// The file a write to `path` lands in: `path` itself, or, where it is a
+/// symbolic link (a chain of them, a dangling one too), the file it points
+/// to, so that the link is kept and its target written (`latest.png ->
+/// renders/x.png`). A loop of links is an error.
+pub fn write_target(path: &Path) -> std::io::Result<PathBuf> {
+    let mut p = path.to_path_buf();
+    for _ in 0..40 {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let to = std::fs::read_link(&p)?;
+                p = match p.parent() {
+                    Some(dir) if to.is_relative() => dir.join(to),
+                    _ => to,
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(std::io::Error::other(format!("{}: too many levels of symbolic links", path.display())))
+}
+
+/// Whether `path` (a link followed) exists and is neither a regular file
+/// nor a folder: a device, a pipe, a socket, written in place
+/// ([`write_atomic`]).
+pub fn is_special(path: &Path) -> bool {
+    std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// Writes `path` completely or not at all: `write` fills a temporary file
 /// in the same folder (named after the target, with the process id), which
 /// is flushed to disk and renamed over `path`; on any error the temporary
 /// file is removed and `path` is left as it was. A symbolic link at `path`
-/// is replaced by the file.
+/// is kept and the file it points to written so ([`write_target`]). A
+/// device or pipe (`/dev/null`, `/dev/full`) cannot be replaced: it is
+/// written in place, and every write error (a full device) is returned.
 pub fn write_atomic(
     path: &Path,
     write: impl FnOnce(&mut std::io::BufWriter<std::fs::File>) -> std::io::Result<()>,
 ) -> std::io::Result<()> {
+    let target = write_target(path)?;
+    let path = target.as_path();
+    if is_special(path) {
+        let mut out = std::io::BufWriter::new(std::fs::OpenOptions::new().write(true).open(path)?);
+        write(&mut out)?;
+        return out.into_inner().map_err(|e| e.into_error())?.flush();
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => PathBuf::from("."),
@@ -117,5 +154,32 @@ mod tests {
         write_bytes_atomic(&target, b"after").unwrap();
         assert_eq!(std::fs::read_to_string(&target).unwrap(), "after");
         std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    /// A link is kept and its target written (through a chain of links, a
+    /// relative one, and one whose target does not exist yet); a full
+    /// device's error is returned.
+    #[cfg(unix)]
+    #[test]
+    fn links_are_kept_and_their_targets_written() {
+        let dir = std::env::temp_dir().join(format!("lens-links-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("renders")).unwrap();
+        std::os::unix::fs::symlink("renders/x.png", dir.join("latest.png")).unwrap();
+        std::os::unix::fs::symlink(dir.join("latest.png"), dir.join("second.png")).unwrap();
+        write_bytes_atomic(&dir.join("second.png"), b"one").unwrap();
+        assert!(std::fs::symlink_metadata(dir.join("latest.png")).unwrap().file_type().is_symlink());
+        assert!(std::fs::symlink_metadata(dir.join("second.png")).unwrap().file_type().is_symlink());
+        assert_eq!(std::fs::read(dir.join("renders/x.png")).unwrap(), b"one");
+        write_bytes_atomic(&dir.join("latest.png"), b"two").unwrap();
+        assert_eq!(std::fs::read(dir.join("renders/x.png")).unwrap(), b"two");
+        assert_eq!(std::fs::read_dir(dir.join("renders")).unwrap().count(), 1, "a temporary file stayed behind");
+        std::os::unix::fs::symlink("loop", dir.join("loop")).unwrap();
+        assert!(write_bytes_atomic(&dir.join("loop"), b"x").is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+        if Path::new("/dev/full").exists() {
+            assert!(write_bytes_atomic(Path::new("/dev/full"), &[0; 100_000]).is_err());
+            write_bytes_atomic(Path::new("/dev/null"), b"fine").unwrap();
+        }
     }
 }

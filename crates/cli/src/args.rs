@@ -74,7 +74,9 @@ impl LensArgs {
         let p = self.load()?;
         let at = match wavelength_nm {
             Some(w) if !(w.is_finite() && w > 0.0) => {
-                return Err(format!("--wavelength-nm {w}: give a positive wavelength in nm").into())
+                return Err(
+                    format!("--wavelength-nm {}: give a positive wavelength in nm", lens::error::exact(w)).into()
+                )
             }
             Some(w) => {
                 self.catalogs.report(&p, &[w])?;
@@ -202,7 +204,7 @@ pub fn describe_plane(plane: ImagePlane, z: f64) -> String {
         ImagePlane::Paraxial => "the paraxial image plane".to_string(),
         ImagePlane::Film(d) => format!("a film {} mm behind the last vertex", lens::error::exact(d)),
     };
-    format!("{what}, z = {z:.6} mm")
+    format!("{what}, z = {:.6} mm", lens::error::Fixed(z))
 }
 
 /// A list of field angles from the flag `flag`: at least one, each finite
@@ -212,7 +214,10 @@ pub fn check_fields(flag: &str, fields: &[f64]) -> Result<(), String> {
         return Err(format!("{flag}: give at least one field angle in degrees (e.g. 0,10,20)"));
     }
     match fields.iter().find(|f| !(f.is_finite() && f.abs() < 90.0)) {
-        Some(f) => Err(format!("{flag}: {f} is not a field angle: give angles above -90 and below 90 degrees")),
+        Some(f) => Err(format!(
+            "{flag}: {} is not a field angle: give angles above -90 and below 90 degrees",
+            lens::error::exact(*f)
+        )),
         None => Ok(()),
     }
 }

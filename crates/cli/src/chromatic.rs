@@ -5,6 +5,7 @@ use crate::args::{AimArgs, FieldArgs, JsonArgs, LensArgs, PlotArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::chromatic::chromatic;
 use lens::analysis::curves::largest_field_deg;
+use lens::error::Fixed;
 use lens::paraxial::FirstOrder;
 use std::process::ExitCode;
 
@@ -73,16 +74,20 @@ pub fn run(a: Args) -> CmdResult {
     }
     outln!(
         "  axial colour         {:+.6} mm  (image distance at {} nm minus at {} nm)",
-        c.axial_colour,
+        Fixed(c.axial_colour),
         w[0],
         w[w.len() - 1]
     );
-    outln!("  secondary spectrum   {:+.6} mm  (primary focus minus the mean of the two)", c.secondary_spectrum);
-    outln!("  focal shift range    {:.6} mm over {} points of 400-700 nm", c.focal_shift_range, c.focal_shift.len());
-    outln!("  lateral colour       {:+.6} mm at {:.3} deg", c.lateral_colour, max_field);
+    outln!("  secondary spectrum   {:+.6} mm  (primary focus minus the mean of the two)", Fixed(c.secondary_spectrum));
+    outln!(
+        "  focal shift range    {:.6} mm over {} points of 400-700 nm",
+        Fixed(c.focal_shift_range),
+        c.focal_shift.len()
+    );
+    outln!("  lateral colour       {:+.6} mm at {:.3} deg", Fixed(c.lateral_colour), Fixed(max_field));
     outln!(
         "  polychromatic spot   RMS {:.6} mm at {} deg ({})",
-        c.spot.rms_radius,
+        Fixed(c.spot.rms_radius),
         a.field.field_deg,
         c.spot
             .wavelengths
@@ -96,7 +101,7 @@ pub fn run(a: Args) -> CmdResult {
         for g in &c.glasses {
             let pgf = g.partial_dispersion_gf.map_or("-".to_string(), |v| format!("{v:.4}"));
             let s: Vec<String> = g.surfaces.iter().map(|s| s.to_string()).collect();
-            outln!("  {:<28} {:>10.6} {:>9.4} {:>8}  {}", g.glass, g.nd, g.vd, pgf, s.join(" "));
+            outln!("  {:<28} {:>10.6} {:>9.4} {:>8}  {}", g.glass, Fixed(g.nd), Fixed(g.vd), pgf, s.join(" "));
         }
     }
     Ok(ExitCode::SUCCESS)

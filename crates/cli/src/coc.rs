@@ -4,6 +4,7 @@ use crate::args::{parse_list, JsonArgs, LensArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::coc::circle_of_confusion;
 use lens::error::num;
+use lens::error::Fixed;
 use std::process::ExitCode;
 
 /// Distances drawn for the plot's curves, evenly spaced in 1/distance.
@@ -57,8 +58,7 @@ pub fn run(a: Args) -> CmdResult {
     let focus = t.focus_distance.map_or("infinity".to_string(), |d| format!("{} mm", num(d)));
     outln!(
         "focused at {focus} (film {:.6} mm behind the last vertex); EFL {:.4} mm, entrance pupil {:.4} mm at z {:.4} mm",
-        t.film_distance, t.efl, t.entrance_pupil_diameter, t.entrance_pupil_z
-    );
+        Fixed(t.film_distance), Fixed(t.efl), Fixed(t.entrance_pupil_diameter), Fixed(t.entrance_pupil_z));
     outln!(
         "{:>14} {:>14} {:>14} {:>14} {:>9}",
         "distance (mm)",
@@ -71,7 +71,12 @@ pub fn run(a: Args) -> CmdResult {
         let d = r.distance.map_or("infinity".to_string(), num);
         let ratio = if r.thin_lens_diameter > 0.0 { r.geo_diameter / r.thin_lens_diameter } else { f64::NAN };
         let ratio = if ratio.is_finite() { format!("{ratio:.4}") } else { "-".into() };
-        outln!("{d:>14} {:>14.6} {:>14.6} {:>14.6} {ratio:>9}", r.geo_diameter, r.rms_diameter, r.thin_lens_diameter);
+        outln!(
+            "{d:>14} {:>14.6} {:>14.6} {:>14.6} {ratio:>9}",
+            Fixed(r.geo_diameter),
+            Fixed(r.rms_diameter),
+            Fixed(r.thin_lens_diameter)
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

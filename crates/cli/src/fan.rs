@@ -4,6 +4,7 @@ use crate::args::{AimArgs, FieldArgs, FieldPlotArgs, JsonArgs, LensArgs, PlaneAr
 use crate::{print_json, CmdResult};
 use lens::analysis::fan::fan_traced;
 use lens::analysis::{Field, Launcher};
+use lens::error::Fixed;
 use lens::paraxial::FirstOrder;
 use std::process::ExitCode;
 
@@ -52,15 +53,15 @@ pub fn run(a: Args) -> CmdResult {
     }
     outln!(
         "ray fan at {} deg on {} (chief ray at x {:.6}, y {:.6} mm)",
-        a.field.field_deg,
+        Fixed(a.field.field_deg),
         crate::args::describe_plane(plane, fan.image_z),
-        fan.chief[0],
-        fan.chief[1]
+        Fixed(fan.chief[0]),
+        Fixed(fan.chief[1])
     );
     outln!("{:>9} {:>14} {:>9} {:>14}", "py", "ey (mm)", "px", "ex (mm)");
     let f = |v: Option<f64>| v.map_or("vignetted".to_string(), |v| format!("{v:.6e}"));
     for (t, s) in fan.tangential.iter().zip(&fan.sagittal) {
-        outln!("{:>9.4} {:>14} {:>9.4} {:>14}", t.py, f(t.ey), s.px, f(s.ex));
+        outln!("{:>9.4} {:>14} {:>9.4} {:>14}", Fixed(t.py), f(t.ey), Fixed(s.px), f(s.ex));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -4,6 +4,7 @@
 use crate::args::{AimArgs, JsonArgs, LensArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::curves::field_curves;
+use lens::error::Fixed;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -41,7 +42,11 @@ pub fn run(a: Args) -> CmdResult {
         Some(d) if d.is_finite() => format!(" of the object {d} mm in front of the lens"),
         _ => String::new(),
     };
-    outln!("field curves to {:.3} deg on the paraxial image plane{object} z = {:.6} mm", c.max_field_deg, c.image_z);
+    outln!(
+        "field curves to {:.3} deg on the paraxial image plane{object} z = {:.6} mm",
+        Fixed(c.max_field_deg),
+        Fixed(c.image_z)
+    );
     outln!(
         "{:>8} {:>12} {:>12} {:>11} {:>12} {:>12} {:>9} {:>9}",
         "deg",
@@ -56,19 +61,19 @@ pub fn run(a: Args) -> CmdResult {
     for f in &c.fields {
         outln!(
             "{:>8.3} {:>12.6} {:>12.6} {:>11.5} {:>12.6} {:>12.6} {:>9.4} {:>9.4}",
-            f.field_deg,
-            f.chief_height,
-            f.paraxial_height,
-            f.distortion_percent,
-            f.tangential_focus,
-            f.sagittal_focus,
-            f.unvignetted_fraction,
-            f.relative_illumination
+            Fixed(f.field_deg),
+            Fixed(f.chief_height),
+            Fixed(f.paraxial_height),
+            Fixed(f.distortion_percent),
+            Fixed(f.tangential_focus),
+            Fixed(f.sagittal_focus),
+            Fixed(f.unvignetted_fraction),
+            Fixed(f.relative_illumination)
         );
     }
     outln!("longitudinal spherical aberration:");
     for z in &c.spherical {
-        outln!("  pupil {:.2}: {:+.6} mm", z.pupil, z.longitudinal);
+        outln!("  pupil {:.2}: {:+.6} mm", Fixed(z.pupil), Fixed(z.longitudinal));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -4,6 +4,7 @@
 use crate::args::{JsonArgs, LensArgs, ObjectArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::error::num;
+use lens::error::Fixed;
 use lens::paraxial::ObjectDistance;
 use serde_json::json;
 use std::process::ExitCode;
@@ -63,19 +64,19 @@ pub fn run(a: Args) -> CmdResult {
         ObjectDistance::Infinity => outln!("object distance        infinity"),
         ObjectDistance::Finite(d) => outln!("object distance        {} mm in front of the first vertex", num(d)),
     }
-    outln!("film distance          {:.9} mm behind the last vertex (paraxial)", f.film_distance);
+    outln!("film distance          {:.9} mm behind the last vertex (paraxial)", Fixed(f.film_distance));
     outln!(
         "best focus (real rays) {:.9} mm ({:+.6} mm from paraxial)",
-        f.best_focus_film_distance,
-        f.best_focus_film_distance - f.film_distance
+        Fixed(f.best_focus_film_distance),
+        Fixed(f.best_focus_film_distance - f.film_distance)
     );
     outln!(
         "RMS spot radius        {:.6} mm at paraxial focus, {:.6} mm at best focus",
-        f.rms_radius_at_paraxial_focus,
-        f.rms_radius_at_best_focus
+        Fixed(f.rms_radius_at_paraxial_focus),
+        Fixed(f.rms_radius_at_best_focus)
     );
     if f.pupil_fill < 1.0 {
-        outln!("on-axis bundle fills   {:.4} of the entrance pupil radius (vignetted)", f.pupil_fill);
+        outln!("on-axis bundle fills   {:.4} of the entrance pupil radius (vignetted)", Fixed(f.pupil_fill));
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -4,6 +4,7 @@ use crate::args::{JsonArgs, LensArgs, ObjectArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::aperture::clear_aperture_limit;
 use lens::error::num;
+use lens::error::Fixed;
 use lens::paraxial::{imaging, FirstOrder, ObjectDistance};
 use serde_json::json;
 use std::process::ExitCode;
@@ -53,32 +54,40 @@ pub fn run(a: Args) -> CmdResult {
         "  {} surfaces, stop at surface {} (semi-diameter {:.4} mm)",
         p.surfaces().len(),
         p.stop_index() + 1,
-        p.stop_semi_diameter()
+        Fixed(p.stop_semi_diameter())
     );
     outln!("  z is measured from the first vertex, +z toward the image; mm");
     let row = |k: &str, v: String| -> Result<(), crate::StdoutError> {
         outln!("  {k:<28} {v}");
         Ok(())
     };
-    row("effective focal length", format!("{:.6}", f.efl))?;
-    row("back focal length", format!("{:.6}  (from the last vertex)", f.bfl))?;
-    row("front focal point z", format!("{:.6}", f.ffd))?;
-    row("front principal plane z", format!("{:.6}", f.front_principal_plane))?;
-    row("back principal plane z", format!("{:.6}", f.back_principal_plane))?;
-    row("entrance pupil", format!("z {:.6}, diameter {:.6}", f.entrance_pupil.z, f.entrance_pupil.diameter))?;
+    row("effective focal length", format!("{:.6}", Fixed(f.efl)))?;
+    row("back focal length", format!("{:.6}  (from the last vertex)", Fixed(f.bfl)))?;
+    row("front focal point z", format!("{:.6}", Fixed(f.ffd)))?;
+    row("front principal plane z", format!("{:.6}", Fixed(f.front_principal_plane)))?;
+    row("back principal plane z", format!("{:.6}", Fixed(f.back_principal_plane)))?;
+    row(
+        "entrance pupil",
+        format!("z {:.6}, diameter {:.6}", Fixed(f.entrance_pupil.z), Fixed(f.entrance_pupil.diameter)),
+    )?;
     row(
         "exit pupil",
         match f.exit_pupil {
-            Some(x) => format!("z {:.6}, diameter {:.6}", x.z, x.diameter),
+            Some(x) => format!("z {:.6}, diameter {:.6}", Fixed(x.z), Fixed(x.diameter)),
             None => "at infinity (telecentric in image space)".into(),
         },
     )?;
-    row("f-number", format!("{:.4}", f.f_number))?;
+    row("f-number", format!("{:.4}", Fixed(f.f_number)))?;
     if let Some(l) = limit {
         let note = if l.f_number > f.f_number { "; the stop is larger than they let through" } else { "" };
         row(
             "clear apertures allow",
-            format!("f/{:.4} (surface {}, semi-diameter {} mm{note})", l.f_number, l.surface + 1, l.semi_diameter),
+            format!(
+                "f/{:.4} (surface {}, {}{note})",
+                Fixed(l.f_number),
+                l.surface + 1,
+                lens::error::clear_aperture(l.semi_diameter)
+            ),
         )?;
     }
     let obj = match object {
@@ -86,11 +95,11 @@ pub fn run(a: Args) -> CmdResult {
         ObjectDistance::Finite(d) => format!("{} mm", lens::error::num(d)),
     };
     row("object distance", obj)?;
-    row("image distance", format!("{:.6}  (from the last vertex)", img.image_distance))?;
-    row("magnification", format!("{:.6}", img.magnification))?;
-    row("working f-number", format!("{:.4}", img.working_f_number))?;
-    row("film distance", format!("{:.6}  (last thickness)", p.film_distance()))?;
-    row("total track", format!("{:.6}", f.total_track))?;
+    row("image distance", format!("{:.6}  (from the last vertex)", Fixed(img.image_distance)))?;
+    row("magnification", format!("{:.6}", Fixed(img.magnification)))?;
+    row("working f-number", format!("{:.4}", Fixed(img.working_f_number)))?;
+    row("film distance", format!("{:.6}  (last thickness)", Fixed(p.film_distance())))?;
+    row("total track", format!("{:.6}", Fixed(f.total_track)))?;
     let primary = p.primary_wavelength_nm();
     let waves: Vec<String> = p
         .wavelengths_nm()

@@ -101,7 +101,8 @@ pub fn run(args: Args) -> CmdResult {
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "spot at {field_deg} deg on {}, {} pattern: {} rays, {} vignetted",
+        "spot at {} deg on {}, {} pattern: {} rays, {} vignetted",
+        lens::error::Fixed(field_deg),
         crate::args::describe_plane(plane, s.image_z),
         pattern.name(),
         s.rays,

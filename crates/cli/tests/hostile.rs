@@ -34,6 +34,17 @@ fn refused(args: &[&str], words: &[&str]) {
         assert!(err.contains(w), "{args:?}: the message lacks {w:?}: {err}");
     }
     assert!(!err.contains("panicked"), "{args:?}: {err}");
+    short_numbers(&err);
+}
+
+/// Every number in `text` has at most 17 significant digits (what it takes
+/// to write any f64 exactly): no 309-digit focal lengths, no 300 zeros.
+fn short_numbers(text: &str) {
+    for token in text.split(|c: char| !(c.is_ascii_digit() || c == '.')) {
+        let digits: String = token.chars().filter(char::is_ascii_digit).collect();
+        let significant = digits.trim_start_matches('0');
+        assert!(significant.len() <= 17 && digits.len() <= 24, "a number of {} digits: {token}\n{text}", digits.len());
+    }
 }
 
 const DG: &str = "lens-data/double-gauss-50mm.json";
@@ -370,5 +381,80 @@ fn outputs_through_links_keep_the_link() {
         std::os::unix::fs::symlink("/dev/full", d.join("full.json")).unwrap();
         let full = d.join("full.json");
         refused(&["convert", DG, "-o", full.to_str().unwrap()], &["No space left"]);
+    }
+}
+
+/// Numbers in messages and text reports are written compactly, whatever
+/// their size: huge radii give a focal length of 1e308, not 309 digits; a
+/// sphere of radius 1e33 m, a distance of 1e-300 mm, a field of 1e-300
+/// degrees are echoed as such; a surface without a clear aperture says so.
+#[test]
+fn numbers_in_messages_are_compact() {
+    let d = scratch("numbers");
+    let huge = d.join("huge.json");
+    std::fs::write(
+        &huge,
+        r#"{"surfaces": [{"radius": 1e308, "thickness": 3.6, "ior": 1.5, "semi_diameter": 12.7, "stop": true},
+            {"radius": -1e308, "thickness": 80}]}"#,
+    )
+    .unwrap();
+    let out = lens(&["info", huge.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("1.000000e308"), "{text}");
+    short_numbers(&text);
+    let scene = d.join("big.json");
+    std::fs::write(
+        &scene,
+        r#"{"camera": {"type": "pinhole", "position": [0,0,0], "look_at": [0,0,1], "fov_deg": 40}, "film": {"width": 8, "height": 8},
+            "materials": {"grey": {"type": "diffuse", "color": [0.5,0.5,0.5]}},
+            "shapes": [{"type": "sphere", "center": [0,0,5], "radius": 1, "material": "grey"},
+                       {"type": "sphere", "center": [0,0,5], "radius": 1e33, "material": "grey"}]}"#,
+    )
+    .unwrap();
+    refused(&["render", scene.to_str().unwrap(), "-o", d.join("b.png").to_str().unwrap()], &["shapes[1].radius: 1e33"]);
+    for args in [
+        vec!["coc", DG, "--focus-mm", "2000", "--distances=1e-300"],
+        vec!["coc", DG, "--focus-mm", "1e-300", "--distances=1000"],
+        vec!["spot", DG, "--field-deg", "1e-300"],
+        vec!["fan", DG, "--field-deg", "1e-300"],
+        vec!["info", DG, "--object-distance", "1e300"],
+        vec!["focus", DG, "--object-distance", "1e300"],
+    ] {
+        let out = lens(&args);
+        assert!(matches!(out.status.code(), Some(0 | 1)), "{args:?}");
+        short_numbers(&(String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr)));
+    }
+    // a surface without a clear aperture limits the bundle by missing it
+    let open = d.join("open.json");
+    std::fs::write(
+        &open,
+        r#"{"surfaces": [{"thickness": 5, "semi_diameter": 9, "stop": true},
+            {"radius": 30, "thickness": 8, "ior": 1.5, "semi_diameter": 9},
+            {"radius": -6, "thickness": 40}]}"#,
+    )
+    .unwrap();
+    let out = lens(&["info", open.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(!text.contains("inf mm") && text.contains("surface 3, no clear aperture given"), "{text}");
+    refused(&["info", open.to_str().unwrap(), "--f-number", "1"], &["surface 3 (no clear aperture given"]);
+}
+
+/// What a parser says about a broken file, in the project's words, its own
+/// text kept as the detail: an empty file, a lone UTF-16 surrogate, a file
+/// cut short; for prescriptions and scenes alike.
+#[test]
+fn broken_json_is_explained() {
+    let d = scratch("json");
+    for (name, text, words) in [
+        ("empty.json", "", &["the file is empty", "one JSON object"][..]),
+        ("blank.json", "  \n", &["the file is empty"][..]),
+        ("lone.json", r#"{"\ud800": 1}"#, &["surrogate pair", "hex escape", "both halves"][..]),
+        ("short.json", r#"{"\ud8": 1}"#, &["not a whole character"][..]),
+        ("cut.json", r#"{"surf"#, &["ends in the middle", "cut short"][..]),
+    ] {
+        let f = d.join(name);
+        std::fs::write(&f, text).unwrap();
+        refused(&["info", f.to_str().unwrap()], words);
+        refused(&["render", f.to_str().unwrap(), "-o", d.join("x.png").to_str().unwrap()], words);
     }
 }

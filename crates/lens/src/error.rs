@@ -107,6 +107,56 @@ pub fn exact(x: f64) -> String {
     }
 }
 
+/// A number in a text report: printed as `f64` prints it (width,
+/// precision, `+` and alignment honoured: `{:>14.6}`) while it is below
+/// 1e9 in size, in scientific notation of the same precision above (1e308
+/// is `1.000000e308`, not 309 digits); without a precision, as [`exact`]
+/// (so 1e-300 is not 300 zeros).
+///
+/// ```
+/// use lens::error::Fixed;
+/// assert_eq!(format!("{:.3}", Fixed(2.5)), "2.500");
+/// assert_eq!(format!("{:>12.2}", Fixed(1e308)), "    1.00e308");
+/// assert_eq!(format!("{}", Fixed(1e-300)), "1e-300");
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Fixed(pub f64);
+
+impl std::fmt::Display for Fixed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let x = self.0;
+        let s = match f.precision() {
+            Some(p) if x.is_finite() && x.abs() >= 1e9 => {
+                if f.sign_plus() {
+                    format!("{x:+.p$e}")
+                } else {
+                    format!("{x:.p$e}")
+                }
+            }
+            Some(_) => return std::fmt::Display::fmt(&x, f),
+            None if f.sign_plus() && x >= 0.0 => format!("+{}", exact(x)),
+            None => exact(x),
+        };
+        let pad = f.width().unwrap_or(0).saturating_sub(s.chars().count());
+        let (before, after) = match f.align() {
+            Some(std::fmt::Alignment::Left) => (0, pad),
+            Some(std::fmt::Alignment::Center) => (pad / 2, pad - pad / 2),
+            _ => (pad, 0),
+        };
+        write!(f, "{}{s}{}", " ".repeat(before), " ".repeat(after))
+    }
+}
+
+/// A surface's clear aperture in words: its semi-diameter, or that it has
+/// none (a ray then stops there only by missing the surface or by total
+/// internal reflection).
+pub fn clear_aperture(semi_diameter: Option<f64>) -> String {
+    match semi_diameter {
+        Some(sd) => format!("semi-diameter {} mm", num(sd)),
+        None => "no clear aperture given: the rays miss the surface or are totally reflected there".into(),
+    }
+}
+
 fn object(d: &Option<f64>) -> String {
     match d {
         Some(d) => format!("object at {} mm", num(*d)),
@@ -179,7 +229,7 @@ pub enum OpticsError {
         expected: &'static str,
     },
     /// An f-number faster than the clear apertures let through.
-    #[error("f/{} is faster than the clear apertures allow: surface {surface} (semi-diameter {} mm) limits the on-axis bundle to f/{}; ask for f/{} or slower, or enlarge that surface's semi_diameter", num(*asked), num(*semi_diameter), num(*fastest), num(*fastest))]
+    #[error("f/{} is faster than the clear apertures allow: surface {surface} ({}) limits the on-axis bundle to f/{}; ask for f/{} or slower, or enlarge that surface's semi_diameter", num(*asked), clear_aperture(*semi_diameter), num(*fastest), num(*fastest))]
     FNumberTooFast {
         /// The f-number asked for.
         asked: f64,
@@ -187,8 +237,9 @@ pub enum OpticsError {
         fastest: f64,
         /// 1-based number of the limiting surface.
         surface: usize,
-        /// Its semi-diameter, mm.
-        semi_diameter: f64,
+        /// Its semi-diameter, mm (`None`: it has none, and the rays miss it
+        /// or are totally reflected there).
+        semi_diameter: Option<f64>,
     },
     /// A prescription changed by a command (a resized stop) is no longer
     /// valid.

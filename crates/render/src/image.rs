@@ -120,8 +120,17 @@ impl Image {
     pub fn load_exr(path: &Path) -> Result<Image, ImageError> {
         use exr::prelude::read_first_rgba_layer_from_file;
         let err = |m: String| ImageError::Read { path: path.display().to_string(), message: m };
-        let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| err(e.to_string()))?;
+        let meta = exr::meta::MetaData::read_from_file(path, false).map_err(|e| err(exr_reason(&e)))?;
         for h in &meta.headers {
+            let has = |c: &str| h.channels.list.iter().any(|x| x.name.eq_case_insensitive(c));
+            if !(has("R") && has("G") && has("B")) {
+                let names: Vec<String> = h.channels.list.iter().map(|c| c.name.to_string()).collect();
+                return Err(err(format!(
+                    "the image has no R, G and B channels (its channels: {}): give an RGB or RGBA OpenEXR image \
+                     (a one-channel image can be saved as RGB by any image editor)",
+                    if names.is_empty() { "none".to_string() } else { names.join(", ") }
+                )));
+            }
             let (w, hgt) = (h.layer_size.width(), h.layer_size.height());
             if (w as u64).saturating_mul(hgt as u64) > MAX_READ_PIXELS {
                 return Err(err(format!(
@@ -141,7 +150,53 @@ impl Image {
                 img.pixels[pos.y() * w + pos.x()] = DVec3::new(r as f64, g as f64, b as f64);
             },
         )
-        .map_err(|e| err(e.to_string()))?;
+        .map_err(|e| err(exr_reason(&e)))?;
         Ok(img.layer_data.channel_data.pixels)
+    }
+}
+
+/// What is wrong with an OpenEXR file, in words, the decoder's own text
+/// kept as the detail.
+#[cfg(feature = "exr")]
+fn exr_reason(e: &exr::error::Error) -> String {
+    use exr::error::Error;
+    match e {
+        Error::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            format!("the file is empty or cut short, not a whole OpenEXR image ({e}); give a complete .exr file")
+        }
+        Error::Invalid(m) if m.contains("missing bytes") => {
+            format!("the file is empty or cut short, not a whole OpenEXR image ({e}); give a complete .exr file")
+        }
+        Error::Invalid(_) => format!("not a readable OpenEXR image ({e}); give an RGB or RGBA .exr file"),
+        Error::NotSupported(_) => format!(
+            "an OpenEXR feature this reader does not support ({e}); save the image as plain scan-line RGB or RGBA"
+        ),
+        _ => format!("{e}; give an RGB or RGBA .exr file"),
+    }
+}
+
+#[cfg(all(test, feature = "exr"))]
+mod tests {
+    /// An empty file and a one-channel image are refused saying what is
+    /// wrong with them and what to give instead.
+    #[test]
+    fn unreadable_exrs_say_why() {
+        use exr::prelude::*;
+        let dir = std::env::temp_dir().join(format!("lens-exr-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let empty = dir.join("empty.exr");
+        std::fs::write(&empty, b"").unwrap();
+        let e = super::Image::load_exr(&empty).unwrap_err().to_string();
+        assert!(e.contains("empty or cut short") && e.contains("give a complete .exr file"), "{e}");
+        let grey = dir.join("grey.exr");
+        let y = AnyChannel::new("Y", FlatSamples::F32(vec![0.5; 4]));
+        let mut channels = SmallVec::new();
+        channels.push(y);
+        let layer =
+            Layer::new((2, 2), LayerAttributes::named("grey"), Encoding::default(), AnyChannels::sort(channels));
+        exr::image::Image::from_layer(layer).write().to_file(&grey).unwrap();
+        let e = super::Image::load_exr(&grey).unwrap_err().to_string();
+        assert!(e.contains("no R, G and B channels (its channels: Y)") && e.contains("RGB or RGBA"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

@@ -20,7 +20,7 @@ pub struct ApertureLimit {
     /// 0-based index of the limiting surface.
     pub surface: usize,
     /// Its semi-diameter, mm.
-    pub semi_diameter: f64,
+    pub semi_diameter: Option<f64>,
 }
 
 /// The fastest f-number the clear apertures other than the stop allow for
@@ -70,7 +70,7 @@ pub fn clear_aperture_limit(p: &Prescription, first: &FirstOrder) -> Option<Aper
     Some(ApertureLimit {
         f_number: first.efl.abs() / (2.0 * lo),
         surface,
-        semi_diameter: p.surfaces()[surface].semi_diameter.unwrap_or(f64::INFINITY),
+        semi_diameter: p.surfaces()[surface].semi_diameter,
     })
 }
 

@@ -13,6 +13,10 @@ use crate::model::{Prescription, PrescriptionSpec};
 pub fn parse_object<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, (usize, usize, String)> {
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let start = text.trim_start();
+    if start.is_empty() {
+        let line = 1 + text.matches('\n').count();
+        return Err((line, 1, format!("the file is empty: it must hold one JSON object {{...}}: {what}")));
+    }
     if !start.is_empty() && !start.starts_with('{') {
         let skipped = &text[..text.len() - start.len()];
         let line = 1 + skipped.matches('\n').count();
@@ -22,11 +26,24 @@ pub fn parse_object<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> R
     serde_json::from_str(text).map_err(|e| (e.line(), e.column(), message(&e)))
 }
 
-/// serde's message without the " at line L column C" it appends.
+/// serde's message without the " at line L column C" it appends, said in
+/// the project's words where serde's own are cryptic (the library's text
+/// kept as the detail).
 pub fn message(e: &serde_json::Error) -> String {
     let m = e.to_string();
     let tail = format!(" at line {} column {}", e.line(), e.column());
-    m.strip_suffix(&tail).map(str::to_string).unwrap_or(m)
+    let m = m.strip_suffix(&tail).map(str::to_string).unwrap_or(m);
+    if m.contains("surrogate") || m.contains("escape") {
+        format!(
+            "a backslash escape here is not a whole character: half of a UTF-16 surrogate pair, cut short, or \
+             not one JSON knows ({m}); write the character itself, both halves of a pair (\\ud83d\\ude00), \
+             or \\\\ for a backslash"
+        )
+    } else if e.is_eof() {
+        format!("the file ends in the middle of its JSON ({m}): is it cut short? close every {{, [ and \"")
+    } else {
+        m
+    }
 }
 
 impl PrescriptionSpec {

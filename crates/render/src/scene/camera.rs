@@ -6,6 +6,7 @@ use super::format::*;
 use super::{v3, FieldError};
 use crate::camera::aperture::Aperture;
 use crate::camera::{real_lens::RealLensCamera, Camera, Frame, ThinGlass};
+use lens::error::{exact, num};
 use std::path::Path;
 
 /// The thin lens's distance to the plane in focus and to the film, m, from
@@ -23,7 +24,13 @@ fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<(f64, Option<f6
     if d < 4.0 * f {
         return Err((
             "camera.focus_distance".into(),
-            format!("{d} m from the film: a {f_mm} mm thin lens cannot focus nearer than 4f = {} m", 4.0 * f).into(),
+            format!(
+                "{} m from the film: a {} mm thin lens cannot focus nearer than 4f = {} m",
+                exact(d),
+                exact(f_mm),
+                num(4.0 * f)
+            )
+            .into(),
         ));
     }
     let r = (1.0 - 4.0 * f / d).max(0.0).sqrt();
@@ -42,7 +49,7 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
         if f.is_finite() && f > 0.0 && f < 180.0 {
             Ok((f.to_radians() / 2.0).tan())
         } else {
-            Err(("camera.fov_deg".into(), format!("{f}: a field of view between 0 and 180 degrees").into()))
+            Err(("camera.fov_deg".into(), format!("{}: a field of view between 0 and 180 degrees", exact(f)).into()))
         }
     };
     match c {
@@ -63,7 +70,10 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
             let diameter = match (aperture, f_number, focal_length_mm) {
                 (Some(a), None, _) => *a,
                 (None, Some(n), Some(_)) if !(n.is_finite() && *n >= 0.5) => {
-                    return Err(("camera.f_number".into(), format!("{n}: give an f-number of 0.5 or more").into()))
+                    return Err((
+                        "camera.f_number".into(),
+                        format!("{}: give an f-number of 0.5 or more", exact(*n)).into(),
+                    ))
                 }
                 (None, Some(n), Some(f)) => f / n * 1e-3,
                 (None, None, _) => 0.0,
@@ -75,7 +85,7 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
                 }
             };
             if !(diameter.is_finite() && diameter >= 0.0) {
-                return Err(("camera.aperture".into(), format!("{diameter}: a diameter >= 0 m").into()));
+                return Err(("camera.aperture".into(), format!("{}: a diameter >= 0 m", exact(diameter)).into()));
             }
             if !(focus_distance.is_finite() && *focus_distance > 0.0) {
                 return Err(("camera.focus_distance".into(), "must be a positive distance in m".into()));

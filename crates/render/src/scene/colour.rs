@@ -9,6 +9,7 @@ use crate::material::Material;
 use crate::spectrum::{Illuminant, Radiance, WavelengthRange};
 use crate::transport::Medium;
 use glam::DVec3;
+use lens::error::exact;
 use std::sync::Arc;
 
 /// A catalogue glass by `VENDOR:NAME`, with its index at the d line.
@@ -30,13 +31,13 @@ pub(super) fn radiance_of(spec: &RadianceSpec) -> Result<Radiance, String> {
         }
         RadianceSpec::Spectrum(s) => {
             if !(s.luminance.is_finite() && s.luminance >= 0.0 && s.luminance <= MAX_RADIANCE) {
-                return Err(format!("luminance {}: give a luminance from 0 to {MAX_RADIANCE:e}", s.luminance));
+                return Err(format!("luminance {}: give a luminance from 0 to {MAX_RADIANCE:e}", exact(s.luminance)));
             }
             match (s.blackbody_k, s.illuminant.as_deref()) {
                 (Some(k), None) if k.is_finite() && (500.0..=100_000.0).contains(&k) => {
                     Ok(Radiance::blackbody(k, s.luminance))
                 }
-                (Some(k), None) => Err(format!("blackbody_k {k}: give a temperature from 500 to 100000 K")),
+                (Some(k), None) => Err(format!("blackbody_k {}: give a temperature from 500 to 100000 K", exact(k))),
                 (None, Some(name)) => match name.to_ascii_uppercase().as_str() {
                     "D65" => Ok(Radiance::illuminant(Illuminant::D65, s.luminance)),
                     "A" => Ok(Radiance::illuminant(Illuminant::A, s.luminance)),

@@ -6,6 +6,7 @@ mod colour;
 pub mod format;
 
 use colour::{colour_mode, find_glass, radiance_of};
+use lens::error::exact;
 pub mod overrides;
 
 pub use overrides::{CameraKind, Overrides};
@@ -315,7 +316,7 @@ impl Scene {
             let colour = |c: Rgb, what: &str| rgb(c, what).map(Colour::new);
             let constant = |ior: f64| -> Result<Material, SceneError> {
                 if !(ior.is_finite() && ior >= 1.0) {
-                    return Err(bad(format!("{field}.ior"), format!("{ior}: a refractive index >= 1")));
+                    return Err(bad(format!("{field}.ior"), format!("{}: a refractive index >= 1", exact(ior))));
                 }
                 Ok(Material::Dielectric { medium: Medium { ior, glass: None } })
             };
@@ -366,7 +367,10 @@ impl Scene {
                     if !(radius.is_finite() && *radius > 0.0 && *radius <= MAX_COORDINATE) {
                         return Err(bad(
                             field("radius"),
-                            format!("{radius}: a sphere needs a positive radius of at most {MAX_COORDINATE:e} m"),
+                            format!(
+                                "{}: a sphere needs a positive radius of at most {MAX_COORDINATE:e} m",
+                                exact(*radius)
+                            ),
                         ));
                     }
                     shapes.push(Shape::Sphere { center: v3(*center), radius: *radius });
@@ -422,7 +426,7 @@ impl Scene {
                     if !(scale.is_finite() && *scale > 0.0 && *scale <= MAX_COORDINATE) {
                         return Err(bad(
                             field("scale"),
-                            format!("{scale}: give a positive scale of at most {MAX_COORDINATE:e}"),
+                            format!("{}: give a positive scale of at most {MAX_COORDINATE:e}", exact(*scale)),
                         ));
                     }
                     finite(&field("translate"), translate)?;

@@ -228,10 +228,11 @@ pub fn run(a: Args) -> CmdResult {
         ColourMode::Monochromatic(nm) => format!("at {nm} nm"),
     };
     eprintln!(
-        "{} x {} at {spp} spp ({colour}) in {secs:.2} s; camera rays through the lens: {:.1}%",
+        "{} x {} at {spp} spp ({colour}) in {secs:.2} s; camera rays through the lens: {:.1}%; camera: {}",
         image.width,
         image.height,
-        100.0 * stats.pass_rate()
+        100.0 * stats.pass_rate(),
+        scene.camera_summary
     );
     Ok(ExitCode::SUCCESS)
 }

@@ -423,3 +423,30 @@ fn spot_defaults_to_every_wavelength_on_the_image_surface() {
     assert!(text.contains("on the prescription's image surface, z = 103.568000 mm"), "{text}");
     assert!(text.contains("486.1327 (weight 1), 587.5618 (weight 1), 656.2725 (weight 1)"), "{text}");
 }
+
+/// Settings that render but are likely mistakes are warned about: a focus
+/// distance in mm where the scene is in metres, a lens whose image circle
+/// leaves the film's corners black; the closing line says the camera's
+/// settings with units.
+#[test]
+fn render_warns_of_silent_traps_and_echoes_the_camera() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-traps-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("t.png");
+    let small = ["--width", "32", "--height", "18", "--spp", "1", "-o", png.to_str().unwrap()];
+    let scene = "lens-data/scenes/dof-study.json";
+    let (code, _, err) = lens(&[&["render", scene, "--focus-distance", "2000"][..], &small].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("warning: the plane in focus, 2000 m away, lies beyond every object"), "{err}");
+    assert!(err.contains("2000 mm would be 2 m"), "{err}");
+    assert!(err.contains("camera: thin lens, aperture 100 mm, focus 2000 m"), "{err}");
+    let (code, _, err) = lens(&[&["render", scene, "--focus-distance", "9"][..], &small].concat());
+    assert!(code == 0 && !err.contains("warning"), "{err}");
+    let lens85 = "lens-data/library/nikkor-85mm-f1.8-us4812027.json";
+    let (code, _, err) = lens(&[&["render", scene, "--camera", "lens", "--prescription", lens85][..], &small].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("image circle does not cover the film: no ray from 4 of its 4 corners"), "{err}");
+    assert!(err.contains("f = 84.8692 mm, f/1.8, focus 7 m, sensor"), "{err}");
+    let (_, _, err) = lens(&[&["render", "lens-data/scenes/dof-double-gauss-f2.json"][..], &small].concat());
+    assert!(!err.contains("warning") && err.contains("f = 50.3582 mm, f/2, focus 7 m, sensor 36 x 20.25 mm"), "{err}");
+}

@@ -282,6 +282,14 @@ impl Camera {
         }
     }
 
+    /// The camera's pose (for a real lens, the film's frame).
+    pub fn frame(&self) -> Option<&Frame> {
+        match self {
+            Camera::Pinhole { frame, .. } | Camera::ThinLens { frame, .. } => Some(frame),
+            Camera::Real(c) => Some(c.frame()),
+        }
+    }
+
     /// The glasses whose data bound the wavelengths a render may use.
     pub fn glasses(&self) -> Vec<&lens::glass::Glass> {
         match self {

@@ -185,7 +185,12 @@ impl RealLensCamera {
         Ok(cam)
     }
 
-    /// The focused prescription.
+    /// The camera's pose (the film's frame).
+    pub fn frame(&self) -> &Frame {
+        &self.frame
+    }
+
+    /// The prescription (focused: its film where the plane in focus is sharp).
     pub fn prescription(&self) -> &Prescription {
         &self.prescription
     }

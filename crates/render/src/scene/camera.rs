@@ -151,3 +151,57 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
         }
     }
 }
+
+/// The camera's settings in words with their units, for the line a render
+/// closes with: the kind, focal length and f-number where it has them, the
+/// distance in focus, the sensor.
+pub(super) fn summary(c: &CameraSpec, camera: &Camera) -> String {
+    match (c, camera) {
+        (CameraSpec::Pinhole { fov_deg, .. }, _) => format!("pinhole, vertical field of view {} deg", num(*fov_deg)),
+        (CameraSpec::ThinLens { focal_length_mm, focus_distance, .. }, Camera::ThinLens { radius, .. }) => {
+            let lens = match focal_length_mm {
+                Some(f) if *radius > 0.0 => format!("f = {} mm, f/{}", num(*f), num(f * 1e-3 / (2.0 * radius))),
+                Some(f) => format!("f = {} mm, pinhole aperture", num(*f)),
+                None => format!("aperture {} mm", num(2e3 * radius)),
+            };
+            format!("thin lens, {lens}, focus {} m", num(*focus_distance))
+        }
+        (CameraSpec::Lens { focus_distance, sensor_mm, .. }, Camera::Real(r)) => {
+            let p = r.prescription();
+            let name = if p.name().is_empty() { "real lens".to_string() } else { p.name().to_string() };
+            let first = match lens::paraxial::FirstOrder::of(p) {
+                Ok(f) => format!("f = {} mm, f/{}", num(f.efl), num(f.f_number)),
+                Err(_) => "afocal".to_string(),
+            };
+            format!(
+                "{name}: {first}, focus {} m, sensor {} x {} mm",
+                num(*focus_distance),
+                num(sensor_mm[0]),
+                num(sensor_mm[1])
+            )
+        }
+        _ => String::new(),
+    }
+}
+
+/// The distance in focus the file gives, m from the film (`None`: a
+/// pinhole).
+pub(super) fn focus_distance(c: &CameraSpec) -> Option<f64> {
+    match c {
+        CameraSpec::Pinhole { .. } => None,
+        CameraSpec::ThinLens { focus_distance, .. } | CameraSpec::Lens { focus_distance, .. } => Some(*focus_distance),
+    }
+}
+
+/// For a real lens, the share of the film's four corners from which no
+/// ray passes the lens (an 8 x 8 grid of aperture samples each): the image
+/// circle does not cover them.
+pub(super) fn dark_corners(camera: &Camera) -> usize {
+    let Camera::Real(_) = camera else { return 0 };
+    let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)];
+    let grid = |k: usize| (k as f64 + 0.5) / 8.0;
+    corners
+        .iter()
+        .filter(|&&(u, v)| !(0..64).any(|k| camera.ray(u, v, (grid(k % 8), grid(k / 8))).is_some_and(|(_, w)| w > 0.0)))
+        .count()
+}

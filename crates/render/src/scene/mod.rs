@@ -6,7 +6,7 @@ mod colour;
 pub mod format;
 
 use colour::{colour_mode, find_glass, radiance_of};
-use lens::error::exact;
+use lens::error::{exact, num};
 pub mod overrides;
 
 pub use overrides::{CameraKind, Overrides};
@@ -212,8 +212,12 @@ pub struct Scene {
     /// data (extrapolated).
     pub glass_warnings: Vec<lens::glass::RangeWarning>,
     /// Anything else the user should know about the scene as built, one
-    /// sentence each.
+    /// sentence each: a focus beyond every object, a real lens whose image
+    /// circle leaves the film's corners dark.
     pub warnings: Vec<String>,
+    /// The camera's settings in words, with units (`Double Gauss 50mm f/2:
+    /// f = 50.3582 mm, f/2, focus 5 m, sensor 36 x 24 mm`).
+    pub camera_summary: String,
     /// Every file the scene was built from: the scene file (when loaded
     /// from one), the prescription, aperture masks, the environment image,
     /// meshes. A command must not write over any of them.
@@ -221,6 +225,53 @@ pub struct Scene {
     bvh: Option<Bvh>,
     /// Primitives tested one by one (planes, or all when there is no BVH).
     linear: Vec<usize>,
+}
+
+/// Settings that render without error but are likely not what was meant:
+/// a plane in focus beyond every bounded object (a distance given in mm
+/// where the scene is in metres), a real lens whose image circle does not
+/// cover the film.
+fn settings_warnings(spec: &CameraSpec, camera: &Camera, shapes: &[Shape]) -> Vec<String> {
+    let mut out = Vec::new();
+    if let (Some(d), Some(frame)) = (camera::focus_distance(spec), camera.frame()) {
+        let along = |p: DVec3| (p - frame.origin).dot(frame.forward);
+        let farthest = shapes
+            .iter()
+            .filter_map(|s| match s {
+                Shape::Sphere { center, radius } => Some(along(*center) + radius),
+                Shape::Plane { .. } => None,
+                Shape::Quad { corner, u, v } => Some(
+                    [*corner, *corner + *u, *corner + *v, *corner + *u + *v]
+                        .map(along)
+                        .into_iter()
+                        .fold(f64::MIN, f64::max),
+                ),
+                Shape::Triangle { v } => Some(v.map(along).into_iter().fold(f64::MIN, f64::max)),
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        if farthest > 0.0 && d > 2.0 * farthest {
+            let mm = if d >= 100.0 {
+                format!(" (scene lengths are metres: {} mm would be {} m)", exact(d), num(d * 1e-3))
+            } else {
+                String::new()
+            };
+            out.push(format!(
+                "the plane in focus, {} m away, lies beyond every object of the scene (the farthest reaches {} m): \
+                 nothing but the background is sharp{mm}",
+                num(d),
+                num(farthest)
+            ));
+        }
+    }
+    let dark = camera::dark_corners(camera);
+    if dark > 0 {
+        out.push(format!(
+            "the lens's image circle does not cover the film: no ray from {dark} of its 4 corners passes the lens, \
+             and they render black (as a circular fisheye's do); to fill the frame choose a smaller sensor_mm, \
+             or a lens made for this format"
+        ));
+    }
+    out
 }
 
 fn v3(a: V3) -> DVec3 {
@@ -501,6 +552,8 @@ impl Scene {
                 .collect();
             *lamps = crate::camera::LampAim::new(spheres, aperture, *focus_shift);
         }
+        let warnings = settings_warnings(&file.camera, &camera, &shapes);
+        let camera_summary = camera::summary(&file.camera, &camera);
         let range = lens::glass::GlassRange::Extrapolate;
         let (colour, range_warnings) =
             colour_mode(&file.film, &camera, &materials, &point_lights, range).map_err(|(field, e)| bad(field, e))?;
@@ -529,7 +582,8 @@ impl Scene {
             colour,
             glass_range: range,
             glass_warnings: range_warnings,
-            warnings: Vec::new(),
+            warnings,
+            camera_summary,
             inputs,
             bvh,
             linear,

@@ -121,6 +121,18 @@ const MAX_SPP: u32 = 1 << 20;
 /// The most worker threads.
 const MAX_THREADS: usize = 256;
 
+/// The worker threads `--threads` asks for (all cores when not given).
+pub fn pool(threads: Option<usize>) -> Result<rayon::ThreadPool, Box<dyn std::error::Error>> {
+    let mut b = rayon::ThreadPoolBuilder::new();
+    if let Some(t) = threads {
+        if t == 0 || t > MAX_THREADS {
+            return Err(format!("--threads {t}: give 1 to {MAX_THREADS} worker threads").into());
+        }
+        b = b.num_threads(t);
+    }
+    Ok(b.build()?)
+}
+
 /// The report's plot files beside `md`.
 fn report_plots(md: &std::path::Path) -> [std::path::PathBuf; 2] {
     let stem = md.file_stem().and_then(|s| s.to_str()).unwrap_or("report");
@@ -166,11 +178,6 @@ pub fn run(a: Args) -> CmdResult {
             return Err(format!("--spp {spp}: at most {MAX_SPP} samples per pixel").into());
         }
     }
-    if let Some(t) = a.threads {
-        if t > MAX_THREADS {
-            return Err(format!("--threads {t}: at most {MAX_THREADS}").into());
-        }
-    }
     if a.spectral.is_some() || a.wavelength_nm.is_some() {
         let spectral = match a.spectral {
             Some(SpectralFlag::On) => SpectralSpec::On,
@@ -195,16 +202,7 @@ pub fn run(a: Args) -> CmdResult {
     if spp == 0 {
         return Err("--spp must be at least 1".into());
     }
-    let pool = {
-        let mut b = rayon::ThreadPoolBuilder::new();
-        if let Some(t) = a.threads {
-            if t == 0 {
-                return Err("--threads must be at least 1".into());
-            }
-            b = b.num_threads(t);
-        }
-        b.build()?
-    };
+    let pool = pool(a.threads)?;
     let bar = indicatif::ProgressBar::new(scene.film.height as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows, {elapsed} elapsed, ETA {eta}")

@@ -18,6 +18,23 @@ pub struct Args {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// Every cell's film width, pixels (overrides the study's and the
+    /// scene's).
+    #[arg(long)]
+    width: Option<u32>,
+    /// Every cell's film height, pixels.
+    #[arg(long)]
+    height: Option<u32>,
+    /// Every cell's samples per pixel.
+    #[arg(long)]
+    spp: Option<u32>,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Refuse wavelengths outside a glass's data instead of extrapolating
+    /// its formula there with a warning.
+    #[arg(long)]
+    strict_glass_range: bool,
 }
 
 /// Space between cells, pixels.
@@ -27,16 +44,33 @@ const TITLE: (f64, u32) = (22.0, 46);
 const LABEL: (f64, u32) = (15.0, 30);
 
 pub fn run(a: Args) -> CmdResult {
-    let study = Study::load(&a.study)?;
+    let overrides = ::render::scene::Overrides {
+        width: a.width,
+        height: a.height,
+        spp: a.spp,
+        strict_glass_range: a.strict_glass_range,
+        ..Default::default()
+    };
+    let study = Study::load_with(&a.study, &overrides)?;
     outputs::check(&[Output { path: &a.output, flag: "-o", extensions: &["png"] }], &study.inputs)?;
+    for cell in &study.cells {
+        for w in &cell.glass_warnings {
+            crate::warnings::glass_range(w);
+        }
+        for w in &cell.warnings {
+            crate::warnings::warn("scene", w);
+        }
+    }
+    let pool = crate::render::pool(a.threads)?;
     let total: u64 = study.cells.iter().map(|s| s.film.height as u64).sum();
     let bar = indicatif::ProgressBar::new(total);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} rows of the study, {elapsed} elapsed, ETA {eta}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let images: Vec<_> =
-        study.cells.iter().map(|s| render(s, Options { spp: s.film.spp, seed: a.seed }, &|_| bar.inc(1)).0).collect();
+    let images: Vec<_> = pool.install(|| {
+        study.cells.iter().map(|s| render(s, Options { spp: s.film.spp, seed: a.seed }, &|_| bar.inc(1)).0).collect()
+    });
     bar.finish_and_clear();
     let (nr, nc) = (study.rows.len(), study.columns.len());
     let col_w: Vec<u32> =

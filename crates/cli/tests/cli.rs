@@ -450,3 +450,29 @@ fn render_warns_of_silent_traps_and_echoes_the_camera() {
     let (_, _, err) = lens(&[&["render", "lens-data/scenes/dof-double-gauss-f2.json"][..], &small].concat());
     assert!(!err.contains("warning") && err.contains("f = 50.3582 mm, f/2, focus 7 m, sensor 36 x 20.25 mm"), "{err}");
 }
+
+/// A study runs from any folder (its scene, masks and prescriptions are
+/// relative to the study file) and takes the film and thread flags `render`
+/// takes, for every cell.
+#[test]
+fn study_takes_render_flags_from_any_folder() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-study-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let study =
+        std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../../lens-data/studies/dof-apertures.json"));
+    let png = dir.join("s.png");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_lens"))
+        .args(["study", study.to_str().unwrap(), "-o", png.to_str().unwrap()])
+        .args(["--width", "40", "--height", "20", "--spp", "1", "--threads", "2"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let img = std::fs::read(&png).unwrap();
+    // 2 rows of 20 px cells and 4 columns of 40 px: the picture is small
+    let (w, h) =
+        (u32::from_be_bytes(img[16..20].try_into().unwrap()), u32::from_be_bytes(img[20..24].try_into().unwrap()));
+    assert!(w < 1100 && h == 46 + 30 + 2 * 20 + 3 * 6, "{w} x {h}");
+    let (code, _, err) = lens(&["study", study.to_str().unwrap(), "-o", png.to_str().unwrap(), "--threads", "0"]);
+    assert!(code == 1 && err.contains("--threads 0"), "{err}");
+}

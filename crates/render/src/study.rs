@@ -132,6 +132,13 @@ impl Study {
     /// setting is checked before anything renders). Errors name the file and
     /// the row or column.
     pub fn load(path: &Path) -> Result<Study, SceneError> {
+        Study::load_with(path, &Overrides::default())
+    }
+
+    /// [`Self::load`] with the command line's settings (`--width`,
+    /// `--height`, `--spp`, `--strict-glass-range`) applied to every cell
+    /// after the study's own.
+    pub fn load_with(path: &Path, command_line: &Overrides) -> Result<Study, SceneError> {
         let name = path.display().to_string();
         let io = |message: String| SceneError::Io { path: name.clone(), message };
         let bytes = lens::io::files::read_bounded(path, 1 << 20).map_err(|e| io(e.reason()))?;
@@ -160,6 +167,10 @@ impl Study {
                 col.set.merge(&mut o, dir, &what).map_err(|e| invalid(what.clone(), e))?;
                 let what = format!("rows[{r}].set");
                 row.set.merge(&mut o, dir, &what).map_err(|e| invalid(what.clone(), e))?;
+                o.width = command_line.width.or(o.width);
+                o.height = command_line.height.or(o.height);
+                o.spp = command_line.spp.or(o.spp);
+                o.strict_glass_range |= command_line.strict_glass_range;
                 let scene = Scene::load_with(&scene_path, &o).map_err(|e| {
                     invalid(format!("rows[{r}] x columns[{c}] (\"{}\", \"{}\")", row.label, col.label), e.to_string())
                 })?;

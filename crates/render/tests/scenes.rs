@@ -42,3 +42,24 @@ fn every_shipped_study_loads() {
     }
     assert!(n >= 5, "{n} studies");
 }
+
+/// The README's first command renders a scene whose depth of field a
+/// newcomer sees: focused at 2.5 m, the ball 1.5 m away and the lamps 12 m
+/// and more away blur by many pixels at its 320 px width (the real lens's
+/// circle of confusion, `lens coc`).
+#[test]
+fn the_readme_scene_shows_depth_of_field() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let scene = "lens-data/scenes/shallow-focus-100mm-f1.25.json";
+    assert!(readme.contains(&format!("render {scene} -o dof.png")), "the README's command renders another scene");
+    let s = Scene::load(&root.join(scene)).unwrap();
+    let render::camera::Camera::Real(cam) = &s.camera else { panic!("a real lens") };
+    let px_per_mm = s.film.width as f64 / 36.0;
+    let p = lens::Prescription::load(root.join("lens-data/library/double-gauss-100mm-f1.25-us2771006.json")).unwrap();
+    assert_eq!(cam.prescription().surfaces().len(), p.surfaces().len());
+    let coc = lens::analysis::coc::circle_of_confusion(&p, 2500.0, &[1500.0, 12_000.0]).unwrap();
+    let (near, far) = (coc.rows[0].geo_diameter * px_per_mm, coc.rows[1].geo_diameter * px_per_mm);
+    // 18.7 and 23.4 px
+    assert!(near > 15.0 && far > 20.0, "near {near} px, far {far} px");
+}

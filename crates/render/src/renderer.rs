@@ -104,210 +104,331 @@ pub enum Companions {
 }
 
 /// [`render`] with the choice of which samples trace their companions.
+///
+/// The loop in one screen: the film is made in bands of rows (all rows at
+/// once unless the render splats), each band's rows in parallel
+/// ([`render_row`]), then the band's rows and splats added to the film in
+/// row order ([`add_band`]).
 pub fn render_with(
     scene: &Scene,
     opt: Options,
     progress: &(dyn Fn(usize) + Sync),
     companions: Companions,
 ) -> (Image, Stats) {
-    let (w, h) = (scene.film.width as usize, scene.film.height as usize);
-    let spp = opt.spp.max(1) as usize;
-    let strata = (spp as f64).sqrt().floor().max(1.0) as usize;
-    let done = AtomicUsize::new(0);
-    let passed = AtomicUsize::new(0);
-    let group = (GROUP_SAMPLES / spp).max(1);
-    // through a dispersive lens with the box filter, companion wavelengths
-    // go to the pixel they land in (`splat`): rows are rendered in bands,
-    // each band's splats added in row order once it is done, so the image
-    // does not depend on the number of threads
-    let splatting = matches!(scene.colour, ColourMode::Spectral(_))
-        && scene.camera.is_dispersive()
-        && scene.film.filter == FilterSpec::Box;
-    // through a real lens with glasses, the radiance (at the brightest of
-    // its wavelengths) from which a sample traces its companions
-    // (`companions.rs`)
-    let companions_from = match companions {
-        Companions::Auto => companions::threshold(scene, opt.seed, spp),
-        Companions::From(v) => v,
-    };
+    let plan = Plan::new(scene, opt, companions);
+    let (w, h) = (plan.width, plan.height);
+    let (done, passed) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let mut film: Vec<DVec3> = vec![DVec3::ZERO; w * h];
-    let band_rows = if splatting { BAND_ROWS } else { h.max(1) };
+    let band_rows = if plan.splatting { BAND_ROWS } else { h.max(1) };
     for band in (0..h).step_by(band_rows) {
-        let rows: Vec<(Vec<DVec3>, Option<Splats>)> = (band..(band + band_rows).min(h))
+        let rows: Vec<Row> = (band..(band + band_rows).min(h))
             .into_par_iter()
             .map(|y| {
-                let mut splats = splatting.then(|| Splats::new(y, w, h));
-                let mut row = Vec::with_capacity(w);
-                let mut row_passed = 0;
-                let mut samples = Vec::with_capacity(group.min(w) * spp);
-                let mut rays = Vec::with_capacity(samples.capacity());
-                let mut order: Vec<usize> = Vec::with_capacity(strata * strata);
-                let mut colours: Vec<SampledWavelengths> = Vec::with_capacity(samples.capacity());
-                let mut lambda_order: Vec<usize> = Vec::new();
-                let (mut light_order, mut bsdf_order) = (Vec::new(), Vec::new());
-                let mut firsts: Vec<FirstBounce> = Vec::with_capacity(samples.capacity());
-                let mut lanes = Vec::new();
-                let mut radiances: Vec<SampledSpectrum> = Vec::new();
-                let mut traced: Vec<bool> = Vec::new();
-                let mut selected: Vec<usize> = Vec::new();
-                for x0 in (0..w).step_by(group) {
-                    let xs = x0..(x0 + group).min(w);
-                    let mut samplers: Vec<Sampler> =
-                        xs.clone().map(|x| Sampler::new(opt.seed, (y * w + x) as u64)).collect();
-                    samples.clear();
-                    colours.clear();
-                    firsts.clear();
-                    for (x, s) in xs.clone().zip(&mut samplers) {
-                        // the aperture strata in a random order of this pixel's own
-                        shuffle_strata(&mut order, strata, s);
-                        for k in 0..spp {
-                            let stratified_k = k < order.len();
-                            let (jx, jy) = if stratified_k { stratified(k, strata, s.next2()) } else { s.next2() };
-                            let (ox, oy) = match scene.film.filter {
-                                FilterSpec::Box => (jx, jy),
-                                FilterSpec::Tent => (0.5 + tent(jx), 0.5 + tent(jy)),
-                            };
-                            let a = from_stratum(&order, k, strata, s);
-                            let film = ((x as f64 + ox) / w as f64, (y as f64 + oy) / h as f64);
-                            samples.push(CameraSample::new(film, a));
-                        }
-                        // the first bounce's light and direction: strata of
-                        // their own, each in a random order of the pixel's
-                        shuffle_strata(&mut light_order, strata, s);
-                        shuffle_strata(&mut bsdf_order, strata, s);
-                        for k in 0..spp {
-                            let light = from_stratum(&light_order, k, strata, s);
-                            firsts.push(FirstBounce { light, bsdf: from_stratum(&bsdf_order, k, strata, s) });
-                        }
-                        let start = colours.len();
-                        push_wavelengths(scene, spp, s, &mut lambda_order, &mut colours);
-                        let first = samples.len() - spp;
-                        for (sample, wl) in samples[first..].iter_mut().zip(&colours[start..]) {
-                            sample.wavelength_nm = Some(wl.hero());
-                        }
-                    }
-                    if let ColourMode::Spectral(_) = scene.colour {
-                        // a camera whose rays do not depend on wavelength sends
-                        // all four along one ray with its plain weight
-                        let dispersive = scene.camera.is_dispersive();
-                        let deferred = dispersive && scene.camera.companions_cost_a_trace();
-                        if dispersive {
-                            scene.camera.heroes(&samples, &colours, &mut lanes);
-                        } else {
-                            scene.camera.rays(&samples, &mut rays);
-                        }
-                        // the paths' radiance first (each sample's wavelengths
-                        // kept with it: the scene may have ended the companions),
-                        // then, through a real lens, the companions of the paths
-                        // bright enough to need them (`companions.rs`)
-                        radiances.clear();
-                        radiances.resize(samples.len(), SampledSpectrum([0.0; N]));
-                        traced.clear();
-                        traced.resize(samples.len(), false);
-                        for (i, s) in samplers.iter_mut().enumerate() {
-                            for k in i * spp..(i + 1) * spp {
-                                let ray = if dispersive {
-                                    match &lanes[k] {
-                                        Some((ray, lane)) if lane[0].transmission > 0.0 => *ray,
-                                        _ => continue,
-                                    }
-                                } else {
-                                    match rays[k] {
-                                        Some((ray, w)) if w > 0.0 => ray,
-                                        _ => continue,
-                                    }
-                                };
-                                row_passed += 1;
-                                let mut t = Spectral::new(colours[k]);
-                                radiances[k] = radiance_with(scene, ray, &mut t, s, Some(firsts[k]));
-                                colours[k] = t.wavelengths;
-                                traced[k] = true;
-                            }
-                        }
-                        if deferred {
-                            selected.clear();
-                            for k in 0..samples.len() {
-                                let wl = &mut colours[k];
-                                if !traced[k] || wl.secondary_terminated() {
-                                    continue;
-                                }
-                                if radiances[k].max_element() >= companions_from {
-                                    selected.push(k);
-                                } else {
-                                    wl.terminate_secondary();
-                                }
-                            }
-                            scene.camera.companions(&colours, &mut lanes, &selected);
-                        }
-                        for i in 0..xs.len() {
-                            let x = x0 + i;
-                            let mut sum = DVec3::ZERO;
-                            for k in (i * spp..(i + 1) * spp).filter(|&k| traced[k]) {
-                                let (wl, l) = (&colours[k], radiances[k]);
-                                sum += if dispersive {
-                                    let Some((_, lane)) = &lanes[k] else { continue };
-                                    match splats.as_mut() {
-                                        Some(sp) => splat_sample(wl, l, lane, (x, y), sp),
-                                        None => {
-                                            let pixel = |film: (f64, f64)| {
-                                                pixel_density(scene.film.filter, film, (x, y), (w, h))
-                                            };
-                                            combine(wl, l, lane, pixel)
-                                        }
-                                    }
-                                } else {
-                                    let Some((_, weight)) = rays[k] else { continue };
-                                    wl.xyz(l) * weight
-                                };
-                            }
-                            row.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));
-                        }
-                        continue;
-                    }
-                    scene.camera.rays(&samples, &mut rays);
-                    for (i, s) in samplers.iter_mut().enumerate() {
-                        let mut sum = DVec3::ZERO;
-                        for k in i * spp..(i + 1) * spp {
-                            let Some((ray, weight)) = rays[k] else { continue };
-                            if weight <= 0.0 {
-                                continue;
-                            }
-                            row_passed += 1;
-                            let first = Some(firsts[k]);
-                            sum += weight
-                                * match scene.colour {
-                                    ColourMode::Monochromatic(nm) => {
-                                        let mut t = Spectral::new(SampledWavelengths::single(nm));
-                                        DVec3::splat(radiance_with(scene, ray, &mut t, s, first).0[0])
-                                    }
-                                    _ => radiance_with(scene, ray, &mut Rgb, s, first),
-                                };
-                        }
-                        row.push(sum / spp as f64);
-                    }
-                }
-                passed.fetch_add(row_passed, Ordering::Relaxed);
+                let row = render_row(scene, &plan, y);
+                passed.fetch_add(row.passed, Ordering::Relaxed);
                 progress(done.fetch_add(1, Ordering::Relaxed) + 1);
-                (row, splats)
+                row
             })
             .collect();
-        // each row's own values, then the band's splats (which may reach rows
-        // of other bands), in row order
-        let mut band_splats = Vec::new();
-        for (y, (row, sp)) in (band..).zip(rows) {
-            for (p, v) in film[y * w..(y + 1) * w].iter_mut().zip(row) {
-                *p += v;
-            }
-            band_splats.extend(sp);
-        }
-        let scale = 1.0 / (spp as f64 * cie::y_integral());
-        for sp in band_splats {
-            sp.merge_into(&mut film, scale);
+        add_band(&mut film, band, rows, &plan);
+    }
+    let stats = Stats { camera_rays: w * h * plan.spp, camera_rays_passed: passed.load(Ordering::Relaxed) };
+    (Image { width: w, height: h, pixels: film }, stats)
+}
+
+/// What every row of a render shares: the film's size, the sample counts,
+/// and the spectral choices made once.
+struct Plan {
+    width: usize,
+    height: usize,
+    /// Samples per pixel.
+    spp: usize,
+    /// Strata per side: the first strata^2 samples of a pixel are
+    /// stratified.
+    strata: usize,
+    /// Pixels whose samples go to the camera as one batch.
+    group: usize,
+    seed: u64,
+    /// Companion wavelengths go to the pixel they land in (a dispersive
+    /// camera, spectral, the box filter).
+    splatting: bool,
+    /// Through a real lens with glasses, the radiance (at the brightest of
+    /// its wavelengths) from which a sample traces its companions
+    /// (`companions.rs`).
+    companions_from: f64,
+}
+
+impl Plan {
+    fn new(scene: &Scene, opt: Options, companions: Companions) -> Plan {
+        let spp = opt.spp.max(1) as usize;
+        Plan {
+            width: scene.film.width as usize,
+            height: scene.film.height as usize,
+            spp,
+            strata: (spp as f64).sqrt().floor().max(1.0) as usize,
+            group: (GROUP_SAMPLES / spp).max(1),
+            seed: opt.seed,
+            // through a dispersive lens with the box filter, companion
+            // wavelengths go to the pixel they land in (`splat`): rows are
+            // rendered in bands, each band's splats added in row order once
+            // it is done, so the image does not depend on the number of
+            // threads
+            splatting: matches!(scene.colour, ColourMode::Spectral(_))
+                && scene.camera.is_dispersive()
+                && scene.film.filter == FilterSpec::Box,
+            companions_from: match companions {
+                Companions::Auto => companions::threshold(scene, opt.seed, spp),
+                Companions::From(v) => v,
+            },
         }
     }
-    let camera_rays = w * h * spp;
-    let stats = Stats { camera_rays, camera_rays_passed: passed.load(Ordering::Relaxed) };
-    (Image { width: w, height: h, pixels: film }, stats)
+}
+
+/// One rendered row: its pixels' values, the splats it sends to other
+/// pixels (when the render splats), and how many of its camera rays passed
+/// the lens.
+struct Row {
+    pixels: Vec<DVec3>,
+    splats: Option<Splats>,
+    passed: usize,
+}
+
+/// The buffers a row reuses from one group of pixels to the next: the
+/// camera samples and what the camera made of them, the strata orders, the
+/// first bounces, each sample's wavelengths and radiance.
+#[derive(Default)]
+struct Scratch {
+    samples: Vec<CameraSample>,
+    rays: Vec<Option<(crate::geometry::Ray, f64)>>,
+    lanes: Vec<Option<(crate::geometry::Ray, [SpectralLane; N])>>,
+    order: Vec<usize>,
+    colours: Vec<SampledWavelengths>,
+    lambda_order: Vec<usize>,
+    light_order: Vec<usize>,
+    bsdf_order: Vec<usize>,
+    firsts: Vec<FirstBounce>,
+    radiances: Vec<SampledSpectrum>,
+    traced: Vec<bool>,
+    selected: Vec<usize>,
+}
+
+/// Renders row `y`: its pixels a group at a time, each group's samples
+/// drawn ([`draw_samples`]), then followed through the camera and the scene
+/// ([`spectral_group`] or [`rgb_group`]).
+fn render_row(scene: &Scene, plan: &Plan, y: usize) -> Row {
+    let w = plan.width;
+    let mut row = Row {
+        pixels: Vec::with_capacity(w),
+        splats: plan.splatting.then(|| Splats::new(y, w, plan.height)),
+        passed: 0,
+    };
+    let mut scratch = Scratch::default();
+    for x0 in (0..w).step_by(plan.group) {
+        let xs = x0..(x0 + plan.group).min(w);
+        let mut samplers: Vec<Sampler> = xs.clone().map(|x| Sampler::new(plan.seed, (y * w + x) as u64)).collect();
+        draw_samples(scene, plan, (xs, y), &mut samplers, &mut scratch);
+        match scene.colour {
+            ColourMode::Spectral(_) => spectral_group(scene, plan, (x0, y), &mut samplers, &mut scratch, &mut row),
+            _ => rgb_group(scene, plan, &mut samplers, &mut scratch, &mut row),
+        }
+    }
+    row
+}
+
+/// Each pixel's samples (`spp` of them, pixel by pixel): its film and
+/// aperture positions (the first strata^2 stratified, the aperture strata in
+/// a random order of the pixel's own), its first bounce's light and
+/// direction (strata of their own), and its wavelengths.
+fn draw_samples(
+    scene: &Scene,
+    plan: &Plan,
+    (xs, y): (std::ops::Range<usize>, usize),
+    samplers: &mut [Sampler],
+    b: &mut Scratch,
+) {
+    let (spp, strata, w, h) = (plan.spp, plan.strata, plan.width, plan.height);
+    b.samples.clear();
+    b.colours.clear();
+    b.firsts.clear();
+    for (x, s) in xs.zip(samplers) {
+        // the aperture strata in a random order of this pixel's own
+        shuffle_strata(&mut b.order, strata, s);
+        for k in 0..spp {
+            let stratified_k = k < b.order.len();
+            let (jx, jy) = if stratified_k { stratified(k, strata, s.next2()) } else { s.next2() };
+            let (ox, oy) = match scene.film.filter {
+                FilterSpec::Box => (jx, jy),
+                FilterSpec::Tent => (0.5 + tent(jx), 0.5 + tent(jy)),
+            };
+            let a = from_stratum(&b.order, k, strata, s);
+            let film = ((x as f64 + ox) / w as f64, (y as f64 + oy) / h as f64);
+            b.samples.push(CameraSample::new(film, a));
+        }
+        // the first bounce's light and direction: strata of their own, each
+        // in a random order of the pixel's
+        shuffle_strata(&mut b.light_order, strata, s);
+        shuffle_strata(&mut b.bsdf_order, strata, s);
+        for k in 0..spp {
+            let light = from_stratum(&b.light_order, k, strata, s);
+            b.firsts.push(FirstBounce { light, bsdf: from_stratum(&b.bsdf_order, k, strata, s) });
+        }
+        let start = b.colours.len();
+        push_wavelengths(scene, spp, s, &mut b.lambda_order, &mut b.colours);
+        let first = b.samples.len() - spp;
+        for (sample, wl) in b.samples[first..].iter_mut().zip(&b.colours[start..]) {
+            sample.wavelength_nm = Some(wl.hero());
+        }
+    }
+}
+
+/// A spectral group of pixels starting at `x0`: the samples through the
+/// camera (a dispersive one gives each wavelength its film point; another
+/// sends all four along one ray with its plain weight), the paths'
+/// radiance, then through a real lens the companions of the paths bright
+/// enough to need them, and each pixel's estimate in XYZ made linear sRGB
+/// (splatted where the render splats).
+fn spectral_group(
+    scene: &Scene,
+    plan: &Plan,
+    (x0, y): (usize, usize),
+    samplers: &mut [Sampler],
+    b: &mut Scratch,
+    row: &mut Row,
+) {
+    let (spp, w, h) = (plan.spp, plan.width, plan.height);
+    let dispersive = scene.camera.is_dispersive();
+    if dispersive {
+        scene.camera.heroes(&b.samples, &b.colours, &mut b.lanes);
+    } else {
+        scene.camera.rays(&b.samples, &mut b.rays);
+    }
+    trace_paths(scene, plan, dispersive, samplers, b, &mut row.passed);
+    if dispersive && scene.camera.companions_cost_a_trace() {
+        trace_companions(scene, plan, b);
+    }
+    for i in 0..samplers.len() {
+        let x = x0 + i;
+        let mut sum = DVec3::ZERO;
+        for k in (i * spp..(i + 1) * spp).filter(|&k| b.traced[k]) {
+            let (wl, l) = (&b.colours[k], b.radiances[k]);
+            sum += if dispersive {
+                let Some((_, lane)) = &b.lanes[k] else { continue };
+                match row.splats.as_mut() {
+                    Some(sp) => splat_sample(wl, l, lane, (x, y), sp),
+                    None => {
+                        let pixel = |film: (f64, f64)| pixel_density(scene.film.filter, film, (x, y), (w, h));
+                        combine(wl, l, lane, pixel)
+                    }
+                }
+            } else {
+                let Some((_, weight)) = b.rays[k] else { continue };
+                wl.xyz(l) * weight
+            };
+        }
+        row.pixels.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));
+    }
+}
+
+/// Each spectral sample that passed the camera followed into the scene:
+/// its radiance at its wavelengths (kept with it: the scene may have ended
+/// the companions), and whether it was traced.
+fn trace_paths(
+    scene: &Scene,
+    plan: &Plan,
+    dispersive: bool,
+    samplers: &mut [Sampler],
+    b: &mut Scratch,
+    passed: &mut usize,
+) {
+    let spp = plan.spp;
+    b.radiances.clear();
+    b.radiances.resize(b.samples.len(), SampledSpectrum([0.0; N]));
+    b.traced.clear();
+    b.traced.resize(b.samples.len(), false);
+    for (i, s) in samplers.iter_mut().enumerate() {
+        for k in i * spp..(i + 1) * spp {
+            let ray = if dispersive {
+                match &b.lanes[k] {
+                    Some((ray, lane)) if lane[0].transmission > 0.0 => *ray,
+                    _ => continue,
+                }
+            } else {
+                match b.rays[k] {
+                    Some((ray, w)) if w > 0.0 => ray,
+                    _ => continue,
+                }
+            };
+            *passed += 1;
+            let mut t = Spectral::new(b.colours[k]);
+            b.radiances[k] = radiance_with(scene, ray, &mut t, s, Some(b.firsts[k]));
+            b.colours[k] = t.wavelengths;
+            b.traced[k] = true;
+        }
+    }
+}
+
+/// Through a real lens with glasses, the companion wavelengths traced for
+/// the paths at least `plan.companions_from` bright (`companions.rs`); the
+/// others keep their hero alone.
+fn trace_companions(scene: &Scene, plan: &Plan, b: &mut Scratch) {
+    b.selected.clear();
+    for k in 0..b.samples.len() {
+        let wl = &mut b.colours[k];
+        if !b.traced[k] || wl.secondary_terminated() {
+            continue;
+        }
+        if b.radiances[k].max_element() >= plan.companions_from {
+            b.selected.push(k);
+        } else {
+            wl.terminate_secondary();
+        }
+    }
+    scene.camera.companions(&b.colours, &mut b.lanes, &b.selected);
+}
+
+/// An RGB (or one-wavelength) group of pixels: the samples through the
+/// camera, each that passed followed into the scene, each pixel the mean
+/// of its samples' weighted radiance.
+fn rgb_group(scene: &Scene, plan: &Plan, samplers: &mut [Sampler], b: &mut Scratch, row: &mut Row) {
+    let spp = plan.spp;
+    scene.camera.rays(&b.samples, &mut b.rays);
+    for (i, s) in samplers.iter_mut().enumerate() {
+        let mut sum = DVec3::ZERO;
+        for k in i * spp..(i + 1) * spp {
+            let Some((ray, weight)) = b.rays[k] else { continue };
+            if weight <= 0.0 {
+                continue;
+            }
+            row.passed += 1;
+            let first = Some(b.firsts[k]);
+            sum += weight
+                * match scene.colour {
+                    ColourMode::Monochromatic(nm) => {
+                        let mut t = Spectral::new(SampledWavelengths::single(nm));
+                        DVec3::splat(radiance_with(scene, ray, &mut t, s, first).0[0])
+                    }
+                    _ => radiance_with(scene, ray, &mut Rgb, s, first),
+                };
+        }
+        row.pixels.push(sum / spp as f64);
+    }
+}
+
+/// Adds a band of rows to the film: each row's own values, then the band's
+/// splats (which may reach rows of other bands), in row order.
+fn add_band(film: &mut [DVec3], band: usize, rows: Vec<Row>, plan: &Plan) {
+    let w = plan.width;
+    let mut band_splats = Vec::new();
+    for (y, row) in (band..).zip(rows) {
+        for (p, v) in film[y * w..(y + 1) * w].iter_mut().zip(row.pixels) {
+            *p += v;
+        }
+        band_splats.extend(row.splats);
+    }
+    let scale = 1.0 / (plan.spp as f64 * cie::y_integral());
+    for sp in band_splats {
+        sp.merge_into(film, scale);
+    }
 }
 
 /// The XYZ estimate (times ∫ȳ) of one spectral camera sample: its

@@ -18,6 +18,7 @@ use crate::paraxial::{FirstOrder, ObjectDistance};
 use crate::trace::Ray;
 use crate::trace::Tracer;
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// Pupil offset of the ray pairs that locate the tangential and sagittal
@@ -123,11 +124,12 @@ pub fn field_curves(
     // relative illumination fills the real stop whatever the aim asked for
     let real = Launcher::with_first(p, &first, geometry.field(0.0), Aim::Real)?;
     let light = Light { on_axis: gathered(&real, &tracer, geometry.field(0.0))?, real };
-    let mut fields = Vec::with_capacity(n);
-    for k in 0..n {
-        let deg = max * k as f64 / (n - 1) as f64;
-        fields.push(field_point(&base, &tracer, &geometry, deg, on_axis, &light)?);
-    }
+    // the fields on all cores, in order (each field's numbers do not
+    // depend on the others or on the thread count)
+    let fields = (0..n)
+        .into_par_iter()
+        .map(|k| field_point(&base, &tracer, &geometry, max * k as f64 / (n - 1) as f64, on_axis, &light))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, &geometry) })
 }
 

@@ -113,6 +113,9 @@ pub struct Launcher {
     /// Whether the aiming was asked as [`Aim::Auto`] (then `aim` holds what
     /// it resolved to for this field).
     auto: bool,
+    /// The real chief ray's entrance-pupil point, found once for the field
+    /// when a real aim first needs it ([`Self::real_chief`]).
+    chief: std::sync::OnceLock<Result<DVec2, String>>,
 }
 
 /// A collimated beam's direction, kept with its launcher.
@@ -155,6 +158,7 @@ impl Launcher {
             z_start,
             beam: Beam::of(field, first.entrance_pupil.z, z_start),
             auto: false,
+            chief: std::sync::OnceLock::new(),
         };
         Ok(l.resolved())
     }
@@ -167,6 +171,7 @@ impl Launcher {
             field,
             aim: if self.auto { Aim::Auto } else { self.aim },
             beam: Beam::of(field, self.first.entrance_pupil.z, self.z_start),
+            chief: std::sync::OnceLock::new(),
             ..self.clone()
         };
         Ok(l.resolved())
@@ -291,8 +296,15 @@ impl Launcher {
     }
 
     /// The real chief ray's entrance-pupil point, by continuation in field
-    /// from the axis (where the paraxial aim is exact to first order).
+    /// from the axis (where the paraxial aim is exact to first order);
+    /// found once per launcher (a field's every real-aimed ray may start
+    /// from it).
     fn real_chief(&self) -> Result<DVec2, String> {
+        self.chief.get_or_init(|| self.find_real_chief()).clone()
+    }
+
+    /// [`Self::real_chief`] computed.
+    fn find_real_chief(&self) -> Result<DVec2, String> {
         if let Ok(e) = self.newton(self.field, DVec2::ZERO, DVec2::ZERO) {
             return Ok(e);
         }

@@ -263,6 +263,17 @@ impl Launcher {
         }
     }
 
+    /// The object-space ray of pupil point (px, py) through the
+    /// entrance-pupil point `e` real aiming found for it ([`Self::aim_many`]).
+    pub(crate) fn ray_from_pupil(&self, px: f64, py: f64, e: DVec2) -> Result<Ray, OpticsError> {
+        self.ray_through(e).ok_or_else(|| OpticsError::AimingFailed {
+            px,
+            py,
+            field: self.field.describe(),
+            why: "the ray cannot be formed (non-finite coordinates)".into(),
+        })
+    }
+
     /// Where the ray of `field` through EP point `e` meets the stop (no
     /// clipping).
     fn stop_hit(&self, field: Field, e: DVec2) -> Option<DVec2> {
@@ -319,6 +330,150 @@ impl Launcher {
             e = self.newton(field, DVec2::ZERO, e)?;
         }
         Ok(e)
+    }
+
+    /// The entrance-pupil points of many pupil points at once, as
+    /// [`Self::ray`] aims each (real aiming): Newton's iterations from the
+    /// paraxial aims in lock step, each round's rays traced to the stop as
+    /// one batch (the batch tracer gives the one-ray tracer's bits, and each
+    /// point's iteration is the one [`Self::newton`] runs, so the points are
+    /// those a point at a time gives); the points that fail go on from the
+    /// field's real chief ray, again together, and any still failing
+    /// through [`Self::aim_real`]'s continuation alone.
+    pub(crate) fn aim_many(&self, points: &[(f64, f64)]) -> Vec<Result<DVec2, OpticsError>> {
+        let r_ep = self.first.entrance_pupil.diameter / 2.0;
+        let targets: Vec<DVec2> = points.iter().map(|&(x, y)| DVec2::new(x, y) * self.stop_radius).collect();
+        let guesses: Vec<DVec2> = points.iter().map(|&(x, y)| DVec2::new(x, y) * r_ep).collect();
+        let mut out: Vec<Option<Result<DVec2, OpticsError>>> =
+            self.newton_many(&targets, &guesses).into_iter().map(|r| r.map(Ok)).collect();
+        let failed: Vec<usize> = (0..points.len()).filter(|&i| out[i].is_none()).collect();
+        if !failed.is_empty() {
+            if let Ok(chief) = self.real_chief() {
+                let t: Vec<DVec2> = failed.iter().map(|&i| targets[i]).collect();
+                for (&i, r) in failed.iter().zip(self.newton_many(&t, &vec![chief; failed.len()])) {
+                    out[i] = r.map(Ok);
+                }
+            }
+        }
+        out.into_iter()
+            .zip(points)
+            .zip(guesses)
+            .map(|((r, &(px, py)), guess)| r.unwrap_or_else(|| self.aim_real(px, py, guess)))
+            .collect()
+    }
+
+    /// Where the rays of this field through the entrance-pupil points `es`
+    /// meet the stop (no clipping), traced as one batch: as
+    /// [`Self::stop_hit`] gives each.
+    fn stop_hits(&self, es: &[DVec2]) -> Vec<Option<DVec2>> {
+        let mut batch = crate::trace::RayBatch::with_capacity(es.len());
+        let mut formed = Vec::with_capacity(es.len());
+        for &e in es {
+            match self.ray_through_at(self.field, e) {
+                Some(r) => {
+                    batch.push(r);
+                    formed.push(true);
+                }
+                None => {
+                    batch.push(Ray::default());
+                    let last = batch.len() - 1;
+                    batch.status[last] = u64::MAX;
+                    formed.push(false);
+                }
+            }
+        }
+        self.to_stop.trace_soa(&mut batch);
+        (0..es.len()).map(|i| (formed[i] && batch.status[i] == 0).then(|| DVec2::new(batch.x[i], batch.y[i]))).collect()
+    }
+
+    /// [`Self::newton`] for many targets and starts at once, in lock step:
+    /// each point's iteration as `newton` runs it (the same steps, damping
+    /// and ends), each round's probe and candidate rays traced together.
+    /// `None` where `newton` would fail.
+    fn newton_many(&self, targets: &[DVec2], starts: &[DVec2]) -> Vec<Option<DVec2>> {
+        let scale = self.stop_radius.max(self.first.entrance_pupil.diameter / 2.0);
+        let floor = match self.field {
+            Field::Height { object_distance, height } => 8.0 * f64::EPSILON * object_distance.hypot(height),
+            Field::Angle(_) => 0.0,
+        };
+        let tol = (1e-12 * scale.max(1.0)).max(floor);
+        let h = 1e-7 * scale;
+        let n = targets.len();
+        let mut e: Vec<DVec2> = starts.to_vec();
+        let mut f = vec![DVec2::ZERO; n];
+        let mut out: Vec<Option<DVec2>> = vec![None; n];
+        // the points still iterating
+        let mut live: Vec<usize> = Vec::with_capacity(n);
+        for (i, hit) in self.stop_hits(&e).into_iter().enumerate() {
+            if let Some(hit) = hit {
+                f[i] = hit - targets[i];
+                live.push(i);
+            }
+        }
+        for _ in 0..NEWTON_STEPS {
+            live.retain(|&i| {
+                let done = f[i].length() <= tol;
+                if done {
+                    out[i] = Some(e[i]);
+                }
+                !done
+            });
+            if live.is_empty() {
+                return out;
+            }
+            let probes: Vec<DVec2> =
+                live.iter().flat_map(|&i| [e[i] + DVec2::new(h, 0.0), e[i] + DVec2::new(0.0, h)]).collect();
+            let hits = self.stop_hits(&probes);
+            // each live point's Newton step, or its end (a probe that
+            // misses, a singular Jacobian: `newton` fails)
+            let mut search: Vec<(usize, DVec2, f64)> = Vec::with_capacity(live.len());
+            for (k, &i) in live.iter().enumerate() {
+                let (Some(hx), Some(hy)) = (hits[2 * k], hits[2 * k + 1]) else { continue };
+                let (fx, fy) = (hx - targets[i], hy - targets[i]);
+                let (j1, j2) = ((fx - f[i]) / h, (fy - f[i]) / h);
+                let det = j1.x * j2.y - j2.x * j1.y;
+                if det == 0.0 || !det.is_finite() {
+                    continue;
+                }
+                let fi = f[i];
+                let d = DVec2::new(-(j2.y * fi.x - j2.x * fi.y) / det, -(-j1.y * fi.x + j1.x * fi.y) / det);
+                search.push((i, d, 1.0));
+            }
+            // the damped steps: halve until the ray exists and the residual
+            // drops, all the points' candidates traced together
+            live.clear();
+            while !search.is_empty() {
+                let cands: Vec<DVec2> = search.iter().map(|&(i, d, step)| e[i] + d * step).collect();
+                let hits = self.stop_hits(&cands);
+                let mut again = Vec::with_capacity(search.len());
+                for ((i, d, step), (cand, hit)) in search.into_iter().zip(cands.into_iter().zip(hits)) {
+                    if let Some(hit) = hit {
+                        let fc = hit - targets[i];
+                        if fc.length() < f[i].length() || fc.length() <= tol {
+                            (e[i], f[i]) = (cand, fc);
+                            live.push(i);
+                            continue;
+                        }
+                    }
+                    let step = step * 0.5;
+                    if step < 1e-6 {
+                        if f[i].length() <= tol * 1e3 {
+                            out[i] = Some(e[i]);
+                        }
+                        continue;
+                    }
+                    again.push((i, d, step));
+                }
+                search = again;
+            }
+            live.sort_unstable();
+        }
+        for i in live {
+            if f[i].length() <= tol * 1e3 {
+                out[i] = Some(e[i]);
+            }
+        }
+        out
     }
 
     fn aim_error(&self, px: f64, py: f64, why: String) -> OpticsError {

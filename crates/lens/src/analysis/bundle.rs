@@ -94,25 +94,8 @@ pub fn launch(
 ) -> Result<usize, OpticsError> {
     batch.clear();
     let mut failed = 0;
-    if launcher.aim() == super::launch::Aim::Real {
-        // real aiming: every point's Newton iterations together
-        let points: Vec<(f64, f64)> = points.collect();
-        for ((px, py), e) in points.iter().zip(launcher.aim_many(&points)) {
-            match e.and_then(|e| launcher.ray_from_pupil(*px, *py, e)) {
-                Ok(r) => batch.push(r),
-                Err(OpticsError::AimingFailed { .. }) => {
-                    batch.push(Ray::default());
-                    let last = batch.len() - 1;
-                    batch.status[last] = AIM_FAILED;
-                    failed += 1;
-                }
-                Err(e) => return Err(e),
-            }
-        }
-        return Ok(failed);
-    }
-    for (px, py) in points {
-        match launcher.ray(px, py) {
+    let mut push = |r: Result<Ray, OpticsError>| -> Result<(), OpticsError> {
+        match r {
             Ok(r) => batch.push(r),
             Err(OpticsError::AimingFailed { .. }) => {
                 batch.push(Ray::default());
@@ -121,6 +104,18 @@ pub fn launch(
                 failed += 1;
             }
             Err(e) => return Err(e),
+        }
+        Ok(())
+    };
+    if launcher.aim() == super::launch::Aim::Real {
+        // real aiming: every point's Newton iterations together
+        let points: Vec<(f64, f64)> = points.collect();
+        for ((px, py), e) in points.iter().zip(launcher.aim_many(&points)) {
+            push(e.and_then(|e| launcher.ray_from_pupil(*px, *py, e)))?;
+        }
+    } else {
+        for (px, py) in points {
+            push(launcher.ray(px, py))?;
         }
     }
     Ok(failed)

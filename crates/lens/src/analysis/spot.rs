@@ -228,10 +228,41 @@ pub fn spot_traced(
             why: format!("all {vignetted} rays of the pupil pattern are vignetted at {}", field.describe()),
         });
     }
+    let wavelengths = Wavelengths { nm: vec![traced.wavelength_nm()], weights: vec![1.0], hits: vec![hits.len()] };
+    let counts = (vignetted, aim_failures);
+    assemble(p, launcher, plane, image_z, (hits, weights, chief), counts, wavelengths, traced.wavelength_nm(), vig)
+}
+
+/// The wavelengths a spot traced: each one's weight and how many hits
+/// (in order) it gave.
+struct Wavelengths {
+    nm: Vec<f64>,
+    weights: Vec<f64>,
+    hits: Vec<usize>,
+}
+
+/// A spot diagram from its weighted hits and the chief ray's point: the
+/// statistics, the Airy radius at `airy_nm` (the working f-number of `p`
+/// at the launcher's field) and the through-focus optimum.
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    p: &Prescription,
+    launcher: &Launcher,
+    plane: ImagePlane,
+    image_z: f64,
+    (hits, weights, chief): (Vec<[f64; 4]>, Vec<f64>, [f64; 2]),
+    (vignetted, aim_failures): (usize, usize),
+    wavelengths: Wavelengths,
+    airy_nm: f64,
+    vig: crate::model::VignettingFactors,
+) -> Result<SpotDiagram, OpticsError> {
+    let field = launcher.field();
     let st = Stats::of(&hits, &weights, chief);
-    let first = launcher.first_order();
-    let wfn = imaging(p, first, field.object())?.working_f_number;
-    let mut spot = SpotDiagram {
+    let wfn = imaging(p, launcher.first_order(), field.object())?.working_f_number;
+    let (pp, ps, ss) = st.moments;
+    let best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };
+    let dz = best_focus_shift;
+    Ok(SpotDiagram {
         field_deg: match field {
             Field::Angle(d) => Some(d),
             Field::Height { .. } => None,
@@ -247,21 +278,16 @@ pub fn spot_traced(
         geo_radius: st.geo_radius,
         geo_radius_chief: st.geo_radius_chief,
         chief,
-        airy_radius: 1.22 * traced.wavelength_nm() * 1e-6 * wfn,
-        best_focus_shift: 0.0,
-        rms_radius_best_focus: 0.0,
-        hits_per_wavelength: vec![hits.len()],
+        airy_radius: 1.22 * airy_nm * 1e-6 * wfn,
+        best_focus_shift,
+        rms_radius_best_focus: (pp + 2.0 * dz * ps + dz * dz * ss).max(0.0).sqrt(),
         hits,
         weights,
         vignetting_factors: (!vig.is_none()).then_some(vig),
-        wavelengths_nm: vec![traced.wavelength_nm()],
-        wavelength_weights: vec![1.0],
-    };
-    let (pp, ps, ss) = st.moments;
-    spot.best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };
-    let dz = spot.best_focus_shift;
-    spot.rms_radius_best_focus = (pp + 2.0 * dz * ps + dz * dz * ss).max(0.0).sqrt();
-    Ok(spot)
+        wavelengths_nm: wavelengths.nm,
+        wavelength_weights: wavelengths.weights,
+        hits_per_wavelength: wavelengths.hits,
+    })
 }
 
 /// Where `launcher`'s chief ray lands through `tracer`.
@@ -327,38 +353,14 @@ pub fn spot_polychromatic(
         aim_failures += s.aim_failures;
         per.push(s.hits.len());
     }
-    let st = Stats::of(&hits, &weights, chief);
-    let field = launcher.field();
-    let wfn = imaging(p, launcher.first_order(), field.object())?.working_f_number;
-    let (pp, ps, ss) = st.moments;
-    let best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };
-    let dz = best_focus_shift;
-    Ok(SpotDiagram {
-        field_deg: match field {
-            Field::Angle(d) => Some(d),
-            Field::Height { .. } => None,
-        },
-        image_plane: plane.name(),
-        image_z,
-        rays: hits.len(),
-        vignetted,
-        aim_failures,
-        centroid: st.centroid,
-        rms_radius: st.rms_radius,
-        rms_radius_chief: st.rms_radius_chief,
-        geo_radius: st.geo_radius,
-        geo_radius_chief: st.geo_radius_chief,
-        chief,
-        airy_radius: 1.22 * p.wavelength_nm() * 1e-6 * wfn,
-        best_focus_shift,
-        rms_radius_best_focus: (pp + 2.0 * dz * ps + dz * dz * ss).max(0.0).sqrt(),
-        hits,
-        weights,
-        vignetting_factors: spots.first().and_then(|s| s.2.vignetting_factors),
-        wavelengths_nm: spots.iter().map(|s| s.0).collect(),
-        wavelength_weights: spots.iter().map(|s| s.1).collect(),
-        hits_per_wavelength: per,
-    })
+    let vig = spots.first().and_then(|s| s.2.vignetting_factors).unwrap_or_default();
+    let wavelengths = Wavelengths {
+        nm: spots.iter().map(|s| s.0).collect(),
+        weights: spots.iter().map(|s| s.1).collect(),
+        hits: per,
+    };
+    let counts = (vignetted, aim_failures);
+    assemble(p, launcher, plane, image_z, (hits, weights, chief), counts, wavelengths, p.wavelength_nm(), vig)
 }
 
 /// The spot's statistics in two passes over the hits (sums, then

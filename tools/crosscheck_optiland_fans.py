@@ -1,5 +1,6 @@
 # Cross-check of ray fans against optiland (pip install optiland): every ray of
-# `lens fan --json` (paraxial aiming, paraxial image plane, object at infinity)
+# `lens fan --json` (paraxial aiming, the prescription's image surface, object
+# at infinity; lenses of constant indices)
 # is traced by optiland and the image positions compared. Not part of the
 # tests; run after `cargo build --release`.
 import json, subprocess, glob, os, sys
@@ -10,6 +11,8 @@ ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."); LENS = RO
 worst = 0.0
 for path in sorted(glob.glob(ROOT + "/lens-data/*.json")):
     d = json.load(open(path))
+    if any("glass" in s for s in d["surfaces"]):
+        continue  # constant indices only: optiland's IdealMaterial
     for field in [0.0, 5.0, 10.0]:
         fan = json.loads(subprocess.check_output([LENS, "fan", path, "--field-deg", str(field), "--points", "11", "--json"]))
         o = optic.Optic()

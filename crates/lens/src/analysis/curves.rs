@@ -9,14 +9,13 @@
 //! that object's paraxial image plane (as optical design programs take an
 //! angle field with a finite object).
 
-use super::bundle::{trace_rays, Bundle, Landing};
+use super::bundle::{launch, trace_rays, Bundle, Landing};
 use super::launch::{Aim, Field, Launcher};
 use super::pattern::{points, Pattern};
 use crate::error::OpticsError;
 use crate::model::Prescription;
 use crate::paraxial::{FirstOrder, ObjectDistance};
-use crate::trace::Ray;
-use crate::trace::Tracer;
+use crate::trace::{Ray, RayBatch, Tracer};
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -387,9 +386,15 @@ fn gathered(real: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, Optic
     let z_ep = launcher.first_order().entrance_pupil.z;
     let on_plane = |r: &Ray| (r.origin + r.direction * ((z_ep - r.origin.z) / r.direction.z)).truncate();
     let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-    for k in 0..32 {
-        let (s, c) = (std::f64::consts::TAU * k as f64 / 32.0).sin_cos();
-        if let Ok(r) = launcher.ray(c, s) {
+    // the rim's 32 points aimed together (real aiming in lock step)
+    let rim: Vec<(f64, f64)> = (0..32)
+        .map(|k| {
+            let (s, c) = (std::f64::consts::TAU * k as f64 / 32.0).sin_cos();
+            (c, s)
+        })
+        .collect();
+    for (&(c, s), e) in rim.iter().zip(launcher.aim_many(&rim)) {
+        if let Ok(r) = e.and_then(|e| launcher.ray_from_pupil(c, s, e)) {
             let e = on_plane(&r);
             (lo, hi) = (lo.min(e), hi.max(e));
         }
@@ -401,15 +406,21 @@ fn gathered(real: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, Optic
     let (lo, hi) = (lo - margin, hi + margin);
     let n = LIGHT_GRID;
     let cell = (hi - lo) / n as f64;
-    let rays: Vec<Ray> = (0..n * n)
-        .filter_map(|k| launcher.ray_through(lo + cell * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5)))
-        .collect();
     let weight = |r: &Ray| match field {
         Field::Angle(_) => 1.0,
         Field::Height { object_distance, .. } => r.direction.z.powi(4) / (z_ep + object_distance).powi(2),
     };
-    let sum: f64 =
-        rays.iter().zip(trace_rays(tracer, &rays)).filter(|(_, l)| l.reached().is_some()).map(|(r, _)| weight(r)).sum();
+    // the grid's rays traced as one batch; only whether each passes is read
+    let mut batch = RayBatch::with_capacity(n * n);
+    let mut weights = Vec::with_capacity(n * n);
+    for k in 0..n * n {
+        if let Some(r) = launcher.ray_through(lo + cell * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5)) {
+            weights.push(weight(&r));
+            batch.push(r);
+        }
+    }
+    tracer.trace_soa(&mut batch);
+    let sum: f64 = weights.iter().zip(&batch.status).filter(|(_, s)| **s == 0).map(|(w, _)| w).sum();
     let cos = match field {
         Field::Angle(deg) => deg.to_radians().cos(),
         Field::Height { .. } => 1.0,
@@ -422,9 +433,11 @@ fn gathered(real: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, Optic
 fn vignetting(base: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, OpticsError> {
     let launcher = base.at_field(field)?;
     let pts = points(Pattern::Square, GRID);
-    let total = pts.len();
-    let b = Bundle::trace(&launcher, tracer, pts)?;
-    Ok(b.reached().count() as f64 / total as f64)
+    let mut batch = RayBatch::with_capacity(pts.len());
+    launch(&launcher, pts.iter().copied(), &mut batch)?;
+    tracer.trace_soa(&mut batch);
+    // a point aiming could not place keeps its non-zero status
+    Ok(batch.status.iter().filter(|s| **s == 0).count() as f64 / pts.len() as f64)
 }
 
 /// The largest field (degrees, at most 89) whose chief ray and its four

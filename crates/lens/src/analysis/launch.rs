@@ -248,23 +248,15 @@ impl Launcher {
     pub fn ray(&self, px: f64, py: f64) -> Result<Ray, OpticsError> {
         let r_ep = self.first.entrance_pupil.diameter / 2.0;
         let guess = DVec2::new(px, py) * r_ep;
-        let bad = || OpticsError::AimingFailed {
-            px,
-            py,
-            field: self.field.describe(),
-            why: "the ray cannot be formed (non-finite coordinates)".into(),
+        let e = match self.aim {
+            Aim::Paraxial => guess,
+            Aim::Real | Aim::Auto => self.aim_real(px, py, guess)?,
         };
-        match self.aim {
-            Aim::Paraxial => self.ray_through(guess).ok_or_else(bad),
-            Aim::Real | Aim::Auto => {
-                let e = self.aim_real(px, py, guess)?;
-                self.ray_through(e).ok_or_else(bad)
-            }
-        }
+        self.ray_from_pupil(px, py, e)
     }
 
     /// The object-space ray of pupil point (px, py) through the
-    /// entrance-pupil point `e` real aiming found for it ([`Self::aim_many`]).
+    /// entrance-pupil point `e` its aiming found for it.
     pub(crate) fn ray_from_pupil(&self, px: f64, py: f64, e: DVec2) -> Result<Ray, OpticsError> {
         self.ray_through(e).ok_or_else(|| OpticsError::AimingFailed {
             px,
@@ -294,11 +286,20 @@ impl Launcher {
         if let Ok(e) = self.newton(self.field, target, guess) {
             return Ok(e);
         }
-        let mut e = self.real_chief().map_err(|why| self.aim_error(px, py, why))?;
-        if let Ok(done) = self.newton(self.field, target, e) {
+        let chief = self.real_chief().map_err(|why| self.aim_error(px, py, why))?;
+        if let Ok(done) = self.newton(self.field, target, chief) {
             return Ok(done);
         }
+        self.continue_from_chief(px, py, chief)
+    }
+
+    /// The last resort of real aiming: from the chief ray's entrance-pupil
+    /// point `chief` outward over the pupil to (px, py) in 16 steps, each
+    /// solved by Newton from the last.
+    fn continue_from_chief(&self, px: f64, py: f64, chief: DVec2) -> Result<DVec2, OpticsError> {
+        let target = DVec2::new(px, py) * self.stop_radius;
         let steps = 16;
+        let mut e = chief;
         for k in 1..=steps {
             let t = target * (k as f64 / steps as f64);
             e = self.newton(self.field, t, e).map_err(|why| self.aim_error(px, py, why))?;
@@ -339,27 +340,34 @@ impl Launcher {
     /// point's iteration is the one [`Self::newton`] runs, so the points are
     /// those a point at a time gives); the points that fail go on from the
     /// field's real chief ray, again together, and any still failing
-    /// through [`Self::aim_real`]'s continuation alone.
+    /// through [`Self::aim_real`]'s continuation alone
+    /// ([`Self::continue_from_chief`]).
     pub(crate) fn aim_many(&self, points: &[(f64, f64)]) -> Vec<Result<DVec2, OpticsError>> {
         let r_ep = self.first.entrance_pupil.diameter / 2.0;
         let targets: Vec<DVec2> = points.iter().map(|&(x, y)| DVec2::new(x, y) * self.stop_radius).collect();
         let guesses: Vec<DVec2> = points.iter().map(|&(x, y)| DVec2::new(x, y) * r_ep).collect();
+        // every point's Newton run from its paraxial aim
         let mut out: Vec<Option<Result<DVec2, OpticsError>>> =
             self.newton_many(&targets, &guesses).into_iter().map(|r| r.map(Ok)).collect();
         let failed: Vec<usize> = (0..points.len()).filter(|&i| out[i].is_none()).collect();
-        if !failed.is_empty() {
-            if let Ok(chief) = self.real_chief() {
-                let t: Vec<DVec2> = failed.iter().map(|&i| targets[i]).collect();
-                for (&i, r) in failed.iter().zip(self.newton_many(&t, &vec![chief; failed.len()])) {
-                    out[i] = r.map(Ok);
-                }
-            }
+        if failed.is_empty() {
+            return out.into_iter().flatten().collect();
         }
-        out.into_iter()
-            .zip(points)
-            .zip(guesses)
-            .map(|((r, &(px, py)), guess)| r.unwrap_or_else(|| self.aim_real(px, py, guess)))
-            .collect()
+        let chief = match self.real_chief() {
+            Ok(chief) => chief,
+            Err(why) => {
+                for &i in &failed {
+                    out[i] = Some(Err(self.aim_error(points[i].0, points[i].1, why.clone())));
+                }
+                return out.into_iter().flatten().collect();
+            }
+        };
+        let t: Vec<DVec2> = failed.iter().map(|&i| targets[i]).collect();
+        for (&i, r) in failed.iter().zip(self.newton_many(&t, &vec![chief; failed.len()])) {
+            let (px, py) = points[i];
+            out[i] = Some(r.map_or_else(|| self.continue_from_chief(px, py, chief), Ok));
+        }
+        out.into_iter().flatten().collect()
     }
 
     /// Where the rays of this field through the entrance-pupil points `es`
@@ -391,13 +399,7 @@ impl Launcher {
     /// and ends), each round's probe and candidate rays traced together.
     /// `None` where `newton` would fail.
     fn newton_many(&self, targets: &[DVec2], starts: &[DVec2]) -> Vec<Option<DVec2>> {
-        let scale = self.stop_radius.max(self.first.entrance_pupil.diameter / 2.0);
-        let floor = match self.field {
-            Field::Height { object_distance, height } => 8.0 * f64::EPSILON * object_distance.hypot(height),
-            Field::Angle(_) => 0.0,
-        };
-        let tol = (1e-12 * scale.max(1.0)).max(floor);
-        let h = 1e-7 * scale;
+        let (tol, h) = self.newton_scales(self.field);
         let n = targets.len();
         let mut e: Vec<DVec2> = starts.to_vec();
         let mut f = vec![DVec2::ZERO; n];
@@ -429,15 +431,9 @@ impl Launcher {
             let mut search: Vec<(usize, DVec2, f64)> = Vec::with_capacity(live.len());
             for (k, &i) in live.iter().enumerate() {
                 let (Some(hx), Some(hy)) = (hits[2 * k], hits[2 * k + 1]) else { continue };
-                let (fx, fy) = (hx - targets[i], hy - targets[i]);
-                let (j1, j2) = ((fx - f[i]) / h, (fy - f[i]) / h);
-                let det = j1.x * j2.y - j2.x * j1.y;
-                if det == 0.0 || !det.is_finite() {
-                    continue;
+                if let Some(d) = newton_step(f[i], hx - targets[i], hy - targets[i], h) {
+                    search.push((i, d, 1.0));
                 }
-                let fi = f[i];
-                let d = DVec2::new(-(j2.y * fi.x - j2.x * fi.y) / det, -(-j1.y * fi.x + j1.x * fi.y) / det);
-                search.push((i, d, 1.0));
             }
             // the damped steps: halve until the ray exists and the residual
             // drops, all the points' candidates traced together
@@ -480,7 +476,9 @@ impl Launcher {
         OpticsError::AimingFailed { px, py, field: self.field.describe(), why }
     }
 
-    fn newton(&self, field: Field, target: DVec2, start: DVec2) -> Result<DVec2, String> {
+    /// Newton's tolerance on the miss at the stop and its finite-difference
+    /// step for `field`, mm.
+    fn newton_scales(&self, field: Field) -> (f64, f64) {
         let scale = self.stop_radius.max(self.first.entrance_pupil.diameter / 2.0);
         // a far object point's own rounding moves its ray at the stop by
         // about eps times its distance: no aim can do better
@@ -488,8 +486,11 @@ impl Launcher {
             Field::Height { object_distance, height } => 8.0 * f64::EPSILON * object_distance.hypot(height),
             Field::Angle(_) => 0.0,
         };
-        let tol = (1e-12 * scale.max(1.0)).max(floor);
-        let h = 1e-7 * scale;
+        ((1e-12 * scale.max(1.0)).max(floor), 1e-7 * scale)
+    }
+
+    fn newton(&self, field: Field, target: DVec2, start: DVec2) -> Result<DVec2, String> {
+        let (tol, h) = self.newton_scales(field);
         let mut e = start;
         let mut f = self.stop_hit(field, e).ok_or("the starting ray misses a surface before the stop")? - target;
         for _ in 0..NEWTON_STEPS {
@@ -498,13 +499,8 @@ impl Launcher {
             }
             let fx = self.stop_hit(field, e + DVec2::new(h, 0.0)).ok_or("a probe ray misses")? - target;
             let fy = self.stop_hit(field, e + DVec2::new(0.0, h)).ok_or("a probe ray misses")? - target;
-            let (j1, j2) = ((fx - f) / h, (fy - f) / h);
-            let det = j1.x * j2.y - j2.x * j1.y;
-            if det == 0.0 || !det.is_finite() {
-                return Err("the stop position does not depend on the aim (singular Jacobian)".into());
-            }
-            // solve J d = -f
-            let d = DVec2::new(-(j2.y * f.x - j2.x * f.y) / det, -(-j1.y * f.x + j1.x * f.y) / det);
+            let d =
+                newton_step(f, fx, fy, h).ok_or("the stop position does not depend on the aim (singular Jacobian)")?;
             // damped step: halve until the ray exists and the residual drops
             let mut step = 1.0;
             loop {
@@ -542,6 +538,18 @@ impl Launcher {
         let img = imaging(p, &self.first, self.field.object())?;
         Ok(p.last_vertex_z() + img.image_distance)
     }
+}
+
+/// Newton's step d solving J d = -f, J the forward differences of the miss
+/// `f` at the stop to `fx` and `fy` (the misses with the aim moved by `h`
+/// in x and in y); `None` for a singular Jacobian.
+fn newton_step(f: DVec2, fx: DVec2, fy: DVec2, h: f64) -> Option<DVec2> {
+    let (j1, j2) = ((fx - f) / h, (fy - f) / h);
+    let det = j1.x * j2.y - j2.x * j1.y;
+    if det == 0.0 || !det.is_finite() {
+        return None;
+    }
+    Some(DVec2::new(-(j2.y * f.x - j2.x * f.y) / det, -(-j1.y * f.x + j1.x * f.y) / det))
 }
 
 /// Checks a field: an angle strictly inside (-90, 90) degrees, or a finite

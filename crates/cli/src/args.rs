@@ -278,20 +278,17 @@ pub struct WavelengthArgs {
     pub wavelength_nm: Option<f64>,
 }
 
-/// `--glass-catalog FILE`, repeatable, and `--strict-glass-range`.
+/// `--strict-glass-range`, for the analyses and the renders alike.
 #[derive(clap::Args, Debug, Clone)]
-pub struct GlassArgs {
-    /// A Zemax AGF glass catalogue to search before the shipped ones
-    /// (repeatable; UTF-16, UTF-8 or Latin-1).
-    #[arg(long = "glass-catalog", value_name = "FILE")]
-    pub glass_catalogs: Vec<PathBuf>,
+pub struct GlassRangeArgs {
     /// Refuse a wavelength outside a glass's stated data range instead of
-    /// extrapolating its formula there with a warning.
+    /// extrapolating its formula there with a warning (a render's spectral
+    /// range is then narrowed to every glass's data).
     #[arg(long)]
     pub strict_glass_range: bool,
 }
 
-impl GlassArgs {
+impl GlassRangeArgs {
     /// What to do outside a glass's data.
     pub fn range(&self) -> lens::glass::GlassRange {
         if self.strict_glass_range {
@@ -299,6 +296,24 @@ impl GlassArgs {
         } else {
             lens::glass::GlassRange::Extrapolate
         }
+    }
+}
+
+/// `--glass-catalog FILE`, repeatable, and `--strict-glass-range`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct GlassArgs {
+    /// A Zemax AGF glass catalogue to search before the shipped ones
+    /// (repeatable; UTF-16, UTF-8 or Latin-1).
+    #[arg(long = "glass-catalog", value_name = "FILE")]
+    pub glass_catalogs: Vec<PathBuf>,
+    #[command(flatten)]
+    pub range: GlassRangeArgs,
+}
+
+impl GlassArgs {
+    /// What to do outside a glass's data.
+    pub fn range(&self) -> lens::glass::GlassRange {
+        self.range.range()
     }
 
     /// Checks `p`'s glasses at `wavelengths_nm`: a warning for each glass

@@ -76,11 +76,8 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
-    /// Refuse wavelengths outside a glass's data instead of extrapolating
-    /// its formula there with a warning: a spectral render's range narrowed
-    /// to every glass's data, --wavelength-nm outside one refused.
-    #[arg(long)]
-    strict_glass_range: bool,
+    #[command(flatten)]
+    glass_range: crate::args::GlassRangeArgs,
     /// Instead of one render: render at 1, 2, 4, ... and --spp samples per
     /// pixel, time each and measure its RMSE (and relative to the mean
     /// pixel value) against a reference of 16x --spp samples, whose own
@@ -156,7 +153,7 @@ pub fn run(a: Args) -> CmdResult {
         focus_shift: a.focus_shift,
         aperture_shape: a.aperture_shape.clone(),
         prescription: a.prescription.clone(),
-        strict_glass_range: a.strict_glass_range,
+        strict_glass_range: a.glass_range.strict_glass_range,
     };
     let mut scene = Scene::load_with(&a.scene, &overrides)?;
     // every output checked before any work: formats, folders, and none of

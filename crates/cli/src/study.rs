@@ -31,10 +31,8 @@ pub struct Args {
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
-    /// Refuse wavelengths outside a glass's data instead of extrapolating
-    /// its formula there with a warning.
-    #[arg(long)]
-    strict_glass_range: bool,
+    #[command(flatten)]
+    glass_range: crate::args::GlassRangeArgs,
 }
 
 /// Space between cells, pixels.
@@ -48,7 +46,7 @@ pub fn run(a: Args) -> CmdResult {
         width: a.width,
         height: a.height,
         spp: a.spp,
-        strict_glass_range: a.strict_glass_range,
+        strict_glass_range: a.glass_range.strict_glass_range,
         ..Default::default()
     };
     let study = Study::load_with(&a.study, &overrides)?;

@@ -54,15 +54,6 @@ pub struct Overrides {
 type Problem = (String, String);
 
 impl Overrides {
-    /// What to do outside a glass's data.
-    pub fn glass_range(&self) -> lens::glass::GlassRange {
-        if self.strict_glass_range {
-            lens::glass::GlassRange::Strict
-        } else {
-            lens::glass::GlassRange::Extrapolate
-        }
-    }
-
     /// Parses an aperture shape written `circle`, `polygon:N[:ROT_DEG]` or
     /// `mask:FILE.png`.
     pub fn parse_shape(s: &str) -> Result<ApertureSpec, String> {

@@ -1,11 +1,14 @@
 //! The scene file's camera built into a [`Camera`]: its pose, the thin
 //! lens's focus, the real lens loaded, resized and focused. Errors name the
-//! field.
+//! field. Also the camera in words, and the settings that are likely
+//! mistakes (a focus beyond every object, a lens that does not cover the
+//! film).
 
 use super::format::*;
 use super::{v3, FieldError};
 use crate::camera::aperture::Aperture;
 use crate::camera::{real_lens::RealLensCamera, Camera, Frame, ThinGlass};
+use glam::DVec3;
 use lens::error::{exact, num};
 use std::path::Path;
 
@@ -204,4 +207,51 @@ pub(super) fn dark_corners(camera: &Camera) -> usize {
         .iter()
         .filter(|&&(u, v)| !(0..64).any(|k| camera.ray(u, v, (grid(k % 8), grid(k / 8))).is_some_and(|(_, w)| w > 0.0)))
         .count()
+}
+
+/// Settings that render without error but are likely not what was meant:
+/// a plane in focus beyond every bounded object (a distance given in mm
+/// where the scene is in metres), a real lens whose image circle does not
+/// cover the film.
+pub(super) fn settings_warnings(spec: &CameraSpec, camera: &Camera, shapes: &[crate::geometry::Shape]) -> Vec<String> {
+    let mut out = Vec::new();
+    if let (Some(d), Some(frame)) = (focus_distance(spec), camera.frame()) {
+        let along = |p: DVec3| (p - frame.origin).dot(frame.forward);
+        let farthest = shapes
+            .iter()
+            .filter_map(|s| match s {
+                crate::geometry::Shape::Sphere { center, radius } => Some(along(*center) + radius),
+                crate::geometry::Shape::Plane { .. } => None,
+                crate::geometry::Shape::Quad { corner, u, v } => Some(
+                    [*corner, *corner + *u, *corner + *v, *corner + *u + *v]
+                        .map(along)
+                        .into_iter()
+                        .fold(f64::MIN, f64::max),
+                ),
+                crate::geometry::Shape::Triangle { v } => Some(v.map(along).into_iter().fold(f64::MIN, f64::max)),
+            })
+            .fold(f64::NEG_INFINITY, f64::max);
+        if farthest > 0.0 && d > 2.0 * farthest {
+            let mm = if d >= 100.0 {
+                format!(" (scene lengths are metres: {} mm would be {} m)", exact(d), num(d * 1e-3))
+            } else {
+                String::new()
+            };
+            out.push(format!(
+                "the plane in focus, {} m away, lies beyond every object of the scene (the farthest reaches {} m): \
+                 nothing but the background is sharp{mm}",
+                num(d),
+                num(farthest)
+            ));
+        }
+    }
+    let dark = dark_corners(camera);
+    if dark > 0 {
+        out.push(format!(
+            "the lens's image circle does not cover the film: no ray from {dark} of its 4 corners passes the lens, \
+             and they render black (as a circular fisheye's do); to fill the frame choose a smaller sensor_mm, \
+             or a lens made for this format"
+        ));
+    }
+    out
 }

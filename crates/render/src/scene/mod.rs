@@ -6,7 +6,7 @@ mod colour;
 pub mod format;
 
 use colour::{colour_mode, find_glass, radiance_of};
-use lens::error::{exact, num};
+use lens::error::exact;
 pub mod overrides;
 
 pub use overrides::{CameraKind, Overrides};
@@ -225,53 +225,6 @@ pub struct Scene {
     bvh: Option<Bvh>,
     /// Primitives tested one by one (planes, or all when there is no BVH).
     linear: Vec<usize>,
-}
-
-/// Settings that render without error but are likely not what was meant:
-/// a plane in focus beyond every bounded object (a distance given in mm
-/// where the scene is in metres), a real lens whose image circle does not
-/// cover the film.
-fn settings_warnings(spec: &CameraSpec, camera: &Camera, shapes: &[Shape]) -> Vec<String> {
-    let mut out = Vec::new();
-    if let (Some(d), Some(frame)) = (camera::focus_distance(spec), camera.frame()) {
-        let along = |p: DVec3| (p - frame.origin).dot(frame.forward);
-        let farthest = shapes
-            .iter()
-            .filter_map(|s| match s {
-                Shape::Sphere { center, radius } => Some(along(*center) + radius),
-                Shape::Plane { .. } => None,
-                Shape::Quad { corner, u, v } => Some(
-                    [*corner, *corner + *u, *corner + *v, *corner + *u + *v]
-                        .map(along)
-                        .into_iter()
-                        .fold(f64::MIN, f64::max),
-                ),
-                Shape::Triangle { v } => Some(v.map(along).into_iter().fold(f64::MIN, f64::max)),
-            })
-            .fold(f64::NEG_INFINITY, f64::max);
-        if farthest > 0.0 && d > 2.0 * farthest {
-            let mm = if d >= 100.0 {
-                format!(" (scene lengths are metres: {} mm would be {} m)", exact(d), num(d * 1e-3))
-            } else {
-                String::new()
-            };
-            out.push(format!(
-                "the plane in focus, {} m away, lies beyond every object of the scene (the farthest reaches {} m): \
-                 nothing but the background is sharp{mm}",
-                num(d),
-                num(farthest)
-            ));
-        }
-    }
-    let dark = camera::dark_corners(camera);
-    if dark > 0 {
-        out.push(format!(
-            "the lens's image circle does not cover the film: no ray from {dark} of its 4 corners passes the lens, \
-             and they render black (as a circular fisheye's do); to fill the frame choose a smaller sensor_mm, \
-             or a lens made for this format"
-        ));
-    }
-    out
 }
 
 fn v3(a: V3) -> DVec3 {
@@ -552,7 +505,7 @@ impl Scene {
                 .collect();
             *lamps = crate::camera::LampAim::new(spheres, aperture, *focus_shift);
         }
-        let warnings = settings_warnings(&file.camera, &camera, &shapes);
+        let warnings = camera::settings_warnings(&file.camera, &camera, &shapes);
         let camera_summary = camera::summary(&file.camera, &camera);
         let range = lens::glass::GlassRange::Extrapolate;
         let (colour, range_warnings) =

@@ -43,8 +43,8 @@ impl Landing {
     }
 }
 
-/// Status given to a ray that real aiming could not form: the tracer leaves
-/// rays with a non-zero status alone.
+/// Status of a ray that real aiming could not form
+/// ([`RayBatch::push_skipped`]'s): the tracer leaves it alone.
 const AIM_FAILED: u64 = u64::MAX;
 
 /// A traced bundle: the pupil points and how each ray ended.
@@ -98,9 +98,7 @@ pub fn launch(
         match r {
             Ok(r) => batch.push(r),
             Err(OpticsError::AimingFailed { .. }) => {
-                batch.push(Ray::default());
-                let last = batch.len() - 1;
-                batch.status[last] = AIM_FAILED;
+                batch.push_skipped();
                 failed += 1;
             }
             Err(e) => return Err(e),

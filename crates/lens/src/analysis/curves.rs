@@ -11,7 +11,7 @@
 
 use super::bundle::{launch, trace_rays, Bundle, Landing};
 use super::launch::{Aim, Field, Launcher};
-use super::pattern::{points, Pattern};
+use super::refine::{passing_nodes, BLOCK};
 use crate::error::OpticsError;
 use crate::model::Prescription;
 use crate::paraxial::{FirstOrder, ObjectDistance};
@@ -119,15 +119,17 @@ pub fn field_curves(
         return Err(OpticsError::BadInput { name: "fields", value: n as f64, expected: "at most 10000 fields" });
     }
     let n = n.max(2);
-    let on_axis = vignetting(&base, &tracer, geometry.field(0.0))?;
+    let open_stop = Tracer::forward_without_stop(p);
+    let tracers = Tracers { to_film: &tracer, open_stop: &open_stop };
+    let on_axis = vignetting(&base.at_field(geometry.field(0.0))?, &tracers)?;
     // relative illumination fills the real stop whatever the aim asked for
     let real = Launcher::with_first(p, &first, geometry.field(0.0), Aim::Real)?;
-    let light = Light { on_axis: gathered(&real, &tracer, geometry.field(0.0))?, real };
+    let light = Light { on_axis: gathered(&real.at_field(geometry.field(0.0))?, &tracer)?, real };
     // the fields on all cores, in order (each field's numbers do not
     // depend on the others or on the thread count)
     let fields = (0..n)
         .into_par_iter()
-        .map(|k| field_point(&base, &tracer, &geometry, max * k as f64 / (n - 1) as f64, on_axis, &light))
+        .map(|k| field_point(&base, &tracers, &geometry, max * k as f64 / (n - 1) as f64, on_axis, &light))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(FieldCurves { max_field_deg: max, image_z, fields, spherical: spherical(&tracer, &first, &geometry) })
 }
@@ -294,7 +296,7 @@ const PROBES: [(f64, f64); 5] = [(0.0, 0.0), (0.0, DELTA), (0.0, -DELTA), (DELTA
 
 fn field_point(
     base: &Launcher,
-    tracer: &Tracer,
+    tracers: &Tracers,
     geometry: &Geometry,
     deg: f64,
     on_axis: f64,
@@ -302,6 +304,7 @@ fn field_point(
 ) -> Result<FieldPoint, OpticsError> {
     let field = geometry.field(deg);
     let launcher = base.at_field(field)?;
+    let tracer = tracers.to_film;
     let theta = deg.to_radians();
     let probes = Bundle::trace(&launcher, tracer, PROBES.to_vec())?;
     let h = probes.landings[0].chief(field)?.origin.y;
@@ -325,22 +328,30 @@ fn field_point(
     };
     let tangential_focus = pair(1, 2, true)?;
     let sagittal_focus = pair(3, 4, false)?;
-    let fraction = vignetting(base, tracer, field)?;
+    let fraction = vignetting(&launcher, tracers)?;
     let relative_illumination = if deg == 0.0 {
         1.0
     } else {
         // dh/dtheta by a central difference of the chief-ray height; a
         // backward one where the field just beyond is lost (the last field)
         let step = (0.01f64).min(deg / 2.0);
-        let hm = chief_height(base, tracer, geometry.field(deg - step))?;
-        let dh = match chief_height(base, tracer, geometry.field(deg + step)) {
+        // (the neighbouring fields' chief rays searched from this one's)
+        let near = |d: f64| chief(&launcher.at_nearby_field(geometry.field(d))?, tracer).map(|c| c[1]);
+        let hm = near(deg - step)?;
+        let dh = match near(deg + step) {
             Ok(hp) => (hp - hm) / (2.0 * step.to_radians()),
             Err(_) => (h - hm) / step.to_radians(),
         };
         // the light the bundle gathers against the axis's (the pupil's
         // growth, its cos theta and vignetting), times the image area per
         // unit of object (solid angle for infinity, area for a finite object)
-        let ratio = gathered(&light.real, tracer, field)? / light.on_axis;
+        // (the field's own launcher where it aims real rays: the real chief
+        // ray found once)
+        let gathers = match launcher.aim() {
+            Aim::Real => gathered(&launcher, tracer)?,
+            _ => gathered(&light.real.at_nearby_field(field)?, tracer)?,
+        };
+        let ratio = gathers / light.on_axis;
         let slant = if geometry.finite.is_some() { theta.cos().powi(-3) } else { 1.0 };
         let f = geometry.scale;
         let ri = ratio * f * f * theta.sin() * slant / (dh * h).abs();
@@ -381,8 +392,8 @@ struct Light {
 /// measured as it is. Each passing ray counts its cell's area (for a finite
 /// object, as the solid angle it subtends projected: area cos^4 / D^2, D
 /// the object's distance from that plane). No rim point that aims: no light.
-fn gathered(real: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, OpticsError> {
-    let launcher = real.at_field(field)?;
+fn gathered(launcher: &Launcher, tracer: &Tracer) -> Result<f64, OpticsError> {
+    let field = launcher.field();
     let z_ep = launcher.first_order().entrance_pupil.z;
     let on_plane = |r: &Ray| (r.origin + r.direction * ((z_ep - r.origin.z) / r.direction.z)).truncate();
     let (mut lo, mut hi) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
@@ -406,21 +417,34 @@ fn gathered(real: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, Optic
     let (lo, hi) = (lo - margin, hi + margin);
     let n = LIGHT_GRID;
     let cell = (hi - lo) / n as f64;
+    let ray = |k: usize| launcher.ray_through(lo + cell * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5));
     let weight = |r: &Ray| match field {
         Field::Angle(_) => 1.0,
         Field::Height { object_distance, .. } => r.direction.z.powi(4) / (z_ep + object_distance).powi(2),
     };
-    // the grid's rays traced as one batch; only whether each passes is read
-    let mut batch = RayBatch::with_capacity(n * n);
-    let mut weights = Vec::with_capacity(n * n);
-    for k in 0..n * n {
-        if let Some(r) = launcher.ray_through(lo + cell * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5)) {
-            weights.push(weight(&r));
-            batch.push(r);
-        }
-    }
-    tracer.trace_soa(&mut batch);
-    let sum: f64 = weights.iter().zip(&batch.status).filter(|(_, s)| **s == 0).map(|(w, _)| w).sum();
+    // which rays pass, traced in batches: the grid's coarse nodes, then the
+    // blocks the light's edge crosses
+    let pass = passing_nodes(
+        n,
+        |_| true,
+        |ks| {
+            let mut batch = RayBatch::with_capacity(ks.len());
+            for &k in ks {
+                match ray(k) {
+                    Some(r) => batch.push(r),
+                    None => batch.push_skipped(),
+                }
+            }
+            tracer.trace_soa(&mut batch);
+            batch.status.iter().map(|s| *s == 0).collect()
+        },
+    );
+    let passing = (0..n * n).filter(|&k| pass[k]);
+    let sum: f64 = match field {
+        // (each ray's weight 1: the count, without forming the rays again)
+        Field::Angle(_) => passing.count() as f64,
+        Field::Height { .. } => passing.filter_map(|k| ray(k).map(|r| weight(&r))).sum(),
+    };
     let cos = match field {
         Field::Angle(deg) => deg.to_radians().cos(),
         Field::Height { .. } => 1.0,
@@ -428,16 +452,128 @@ fn gathered(real: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, Optic
     Ok(sum * cell.x * cell.y * cos)
 }
 
-/// Fraction of a square pupil grid that reaches the image at `field` (a ray
-/// that cannot be aimed counts as vignetted).
-fn vignetting(base: &Launcher, tracer: &Tracer, field: Field) -> Result<f64, OpticsError> {
-    let launcher = base.at_field(field)?;
-    let pts = points(Pattern::Square, GRID);
-    let mut batch = RayBatch::with_capacity(pts.len());
-    launch(&launcher, pts.iter().copied(), &mut batch)?;
-    tracer.trace_soa(&mut batch);
-    // a point aiming could not place keeps its non-zero status
-    Ok(batch.status.iter().filter(|s| **s == 0).count() as f64 / pts.len() as f64)
+/// The tracers of field curves: to the paraxial image plane, and the same
+/// with the stop left open.
+struct Tracers<'a> {
+    to_film: &'a Tracer,
+    open_stop: &'a Tracer,
+}
+
+/// Fraction of a square pupil grid ([`GRID`] points across, those inside
+/// the unit circle) that reaches the image at `field` (a ray that cannot be
+/// aimed counts as vignetted). Found on the grid's coarse nodes and the
+/// blocks where they disagree ([`passing_nodes`]); a coarse node outside the
+/// circle stands for its point on the rim. Real-aimed rays meet the stop at
+/// their pupil point, inside it: they are traced with the stop open (the
+/// other apertures vignette them), so that the stop's own edge is no
+/// boundary to refine.
+fn vignetting(launcher: &Launcher, tracers: &Tracers) -> Result<f64, OpticsError> {
+    let n = GRID;
+    let at = |k: usize| {
+        let x = -1.0 + 2.0 * (k % n) as f64 / (n - 1) as f64;
+        let y = -1.0 + 2.0 * (k / n) as f64 / (n - 1) as f64;
+        (x, y)
+    };
+    // the test of `points`' own circle
+    let inside = |k: usize| {
+        let (x, y) = at(k);
+        x * x + y * y <= 1.0 + 1e-12
+    };
+    // a node outside the circle stands for its point on the rim
+    let on_disc = |k: usize| {
+        let (x, y) = at(k);
+        let r = x.hypot(y);
+        if r > 1.0 {
+            (x / r, y / r)
+        } else {
+            (x, y)
+        }
+    };
+    let real = launcher.aim() == Aim::Real;
+    let tracer = if real { tracers.open_stop } else { tracers.to_film };
+    // the entrance-pupil points real aiming has found, by node: a later
+    // node's Newton run starts from its block's corners' (interpolated)
+    let mut found: Vec<Option<DVec2>> = vec![None; n * n];
+    let mut error = None;
+    let pass = passing_nodes(n, inside, |ks| {
+        let points: Vec<(f64, f64)> = ks.iter().map(|&k| on_disc(k)).collect();
+        let mut batch = RayBatch::with_capacity(ks.len());
+        if real {
+            let starts: Vec<DVec2> = ks
+                .iter()
+                .zip(&points)
+                .map(|(&k, &(x, y))| {
+                    start_from_corners(n, k, &found, inside, at).unwrap_or_else(|| launcher.paraxial_aim(x, y))
+                })
+                .collect();
+            for ((&k, &(x, y)), e) in ks.iter().zip(&points).zip(launcher.aim_many_from(&points, &starts)) {
+                let ray = e.and_then(|e| {
+                    found[k] = Some(e);
+                    launcher.ray_from_pupil(x, y, e)
+                });
+                match ray {
+                    Ok(r) => batch.push(r),
+                    Err(OpticsError::AimingFailed { .. }) => batch.push_skipped(),
+                    Err(e) => {
+                        error = Some(e);
+                        batch.push_skipped();
+                    }
+                }
+            }
+        } else if let Err(e) = launch(launcher, points.into_iter(), &mut batch) {
+            error = Some(e);
+        }
+        tracer.trace_soa(&mut batch);
+        // a point aiming could not place keeps its non-zero status
+        batch.status.iter().map(|s| *s == 0).chain(std::iter::repeat(false)).take(ks.len()).collect()
+    });
+    if let Some(e) = error {
+        return Err(e);
+    }
+    let wanted = (0..n * n).filter(|&k| inside(k));
+    let total = wanted.clone().count();
+    Ok(wanted.filter(|&k| pass[k]).count() as f64 / total as f64)
+}
+
+/// Where real aiming's Newton run for node `k` of an `n` x `n` pupil grid
+/// starts: the entrance-pupil points `found` for the corners of its block
+/// (of [`BLOCK`] cells, those inside the pupil), interpolated bilinearly
+/// when all four are there, else the nearest one's (`None`: no corner
+/// aimed).
+fn start_from_corners(
+    n: usize,
+    k: usize,
+    found: &[Option<DVec2>],
+    inside: impl Fn(usize) -> bool,
+    at: impl Fn(usize) -> (f64, f64),
+) -> Option<DVec2> {
+    let (i, j) = (k / n, k % n);
+    let span = |a: usize| {
+        let lo = a / BLOCK * BLOCK;
+        let hi = (lo + BLOCK).min(n - 1);
+        let t = if hi > lo { (a - lo) as f64 / (hi - lo) as f64 } else { 0.0 };
+        (lo, hi, t)
+    };
+    let ((i0, i1, ti), (j0, j1, tj)) = (span(i), span(j));
+    let corners = [(i0, j0), (i0, j1), (i1, j0), (i1, j1)].map(|(a, b)| {
+        let c = a * n + b;
+        found[c].filter(|_| inside(c)).map(|e| (c, e))
+    });
+    if let [Some((_, a)), Some((_, b)), Some((_, c)), Some((_, d))] = corners {
+        return Some((a * (1.0 - tj) + b * tj) * (1.0 - ti) + (c * (1.0 - tj) + d * tj) * ti);
+    }
+    let (x, y) = at(k);
+    corners
+        .into_iter()
+        .flatten()
+        .min_by(|(c1, _), (c2, _)| {
+            let d = |c: usize| {
+                let (cx, cy) = at(c);
+                (cx - x).hypot(cy - y)
+            };
+            d(*c1).total_cmp(&d(*c2))
+        })
+        .map(|(_, e)| e)
 }
 
 /// The largest field (degrees, at most 89) whose chief ray and its four

@@ -116,6 +116,10 @@ pub struct Launcher {
     /// The real chief ray's entrance-pupil point, found once for the field
     /// when a real aim first needs it ([`Self::real_chief`]).
     chief: std::sync::OnceLock<Result<DVec2, String>>,
+    /// A nearby field's real chief-ray point, where the search for this
+    /// field's starts when Newton from the axis fails
+    /// ([`Self::at_nearby_field`]).
+    chief_hint: Option<DVec2>,
 }
 
 /// A collimated beam's direction, kept with its launcher.
@@ -159,6 +163,7 @@ impl Launcher {
             beam: Beam::of(field, first.entrance_pupil.z, z_start),
             auto: false,
             chief: std::sync::OnceLock::new(),
+            chief_hint: None,
         };
         Ok(l.resolved())
     }
@@ -172,9 +177,21 @@ impl Launcher {
             aim: if self.auto { Aim::Auto } else { self.aim },
             beam: Beam::of(field, self.first.entrance_pupil.z, self.z_start),
             chief: std::sync::OnceLock::new(),
+            chief_hint: None,
             ..self.clone()
         };
         Ok(l.resolved())
+    }
+
+    /// [`Self::at_field`] for a field near this one: where this launcher has
+    /// found its real chief ray, the new one's search starts from it before
+    /// it walks out from the axis (a continuation of 64 Newton runs for a
+    /// wide-angle lens's large fields). The chief ray found is the same to
+    /// within Newton's tolerance.
+    pub fn at_nearby_field(&self, field: Field) -> Result<Self, OpticsError> {
+        let mut l = self.at_field(field)?;
+        l.chief_hint = self.chief.get().and_then(|c| c.as_ref().ok()).copied();
+        Ok(l)
     }
 
     /// Resolves [`Aim::Auto`] for this launcher's field: paraxial when the
@@ -246,8 +263,7 @@ impl Launcher {
     /// The object-space ray for normalised pupil coordinates (px, py).
     /// Paraxial aiming never fails; real aiming reports non-convergence.
     pub fn ray(&self, px: f64, py: f64) -> Result<Ray, OpticsError> {
-        let r_ep = self.first.entrance_pupil.diameter / 2.0;
-        let guess = DVec2::new(px, py) * r_ep;
+        let guess = self.paraxial_aim(px, py);
         let e = match self.aim {
             Aim::Paraxial => guess,
             Aim::Real | Aim::Auto => self.aim_real(px, py, guess)?,
@@ -320,6 +336,9 @@ impl Launcher {
         if let Ok(e) = self.newton(self.field, DVec2::ZERO, DVec2::ZERO) {
             return Ok(e);
         }
+        if let Some(Ok(e)) = self.chief_hint.map(|h| self.newton(self.field, DVec2::ZERO, h)) {
+            return Ok(e);
+        }
         let steps = 64;
         let mut e = DVec2::ZERO;
         for k in 1..=steps {
@@ -343,12 +362,26 @@ impl Launcher {
     /// through [`Self::aim_real`]'s continuation alone
     /// ([`Self::continue_from_chief`]).
     pub(crate) fn aim_many(&self, points: &[(f64, f64)]) -> Vec<Result<DVec2, OpticsError>> {
-        let r_ep = self.first.entrance_pupil.diameter / 2.0;
+        let guesses: Vec<DVec2> = points.iter().map(|&(x, y)| self.paraxial_aim(x, y)).collect();
+        self.aim_many_from(points, &guesses)
+    }
+
+    /// The paraxial aim of pupil point (px, py): its point on the paraxial
+    /// entrance pupil, mm.
+    pub(crate) fn paraxial_aim(&self, px: f64, py: f64) -> DVec2 {
+        DVec2::new(px, py) * (self.first.entrance_pupil.diameter / 2.0)
+    }
+
+    /// [`Self::aim_many`] with each point's Newton run starting from
+    /// `starts` (entrance-pupil points, mm) instead of its paraxial aim: a
+    /// start near the answer (interpolated from aimed neighbours) takes
+    /// fewer steps. The answers agree with `aim_many`'s to within Newton's
+    /// tolerance.
+    pub(crate) fn aim_many_from(&self, points: &[(f64, f64)], starts: &[DVec2]) -> Vec<Result<DVec2, OpticsError>> {
         let targets: Vec<DVec2> = points.iter().map(|&(x, y)| DVec2::new(x, y) * self.stop_radius).collect();
-        let guesses: Vec<DVec2> = points.iter().map(|&(x, y)| DVec2::new(x, y) * r_ep).collect();
-        // every point's Newton run from its paraxial aim
+        // every point's Newton run from its start
         let mut out: Vec<Option<Result<DVec2, OpticsError>>> =
-            self.newton_many(&targets, &guesses).into_iter().map(|r| r.map(Ok)).collect();
+            self.newton_many(&targets, starts).into_iter().map(|r| r.map(Ok)).collect();
         let failed: Vec<usize> = (0..points.len()).filter(|&i| out[i].is_none()).collect();
         if failed.is_empty() {
             return out.into_iter().flatten().collect();
@@ -375,23 +408,14 @@ impl Launcher {
     /// [`Self::stop_hit`] gives each.
     fn stop_hits(&self, es: &[DVec2]) -> Vec<Option<DVec2>> {
         let mut batch = crate::trace::RayBatch::with_capacity(es.len());
-        let mut formed = Vec::with_capacity(es.len());
         for &e in es {
             match self.ray_through_at(self.field, e) {
-                Some(r) => {
-                    batch.push(r);
-                    formed.push(true);
-                }
-                None => {
-                    batch.push(Ray::default());
-                    let last = batch.len() - 1;
-                    batch.status[last] = u64::MAX;
-                    formed.push(false);
-                }
+                Some(r) => batch.push(r),
+                None => batch.push_skipped(),
             }
         }
         self.to_stop.trace_soa(&mut batch);
-        (0..es.len()).map(|i| (formed[i] && batch.status[i] == 0).then(|| DVec2::new(batch.x[i], batch.y[i]))).collect()
+        (0..es.len()).map(|i| (batch.status[i] == 0).then(|| DVec2::new(batch.x[i], batch.y[i]))).collect()
     }
 
     /// [`Self::newton`] for many targets and starts at once, in lock step:

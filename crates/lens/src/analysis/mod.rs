@@ -17,6 +17,7 @@ pub mod focus;
 pub mod launch;
 pub mod pattern;
 pub mod quadrature;
+mod refine;
 pub mod spot;
 
 pub use launch::{Aim, Field, Launcher, AUTO_TOLERANCE};

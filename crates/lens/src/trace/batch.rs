@@ -92,6 +92,15 @@ impl RayBatch {
         self.status.push(0);
     }
 
+    /// Appends a placeholder the tracer leaves alone: a ray that could not
+    /// be formed (status `u64::MAX`, which no trace gives).
+    pub fn push_skipped(&mut self) {
+        self.push(Ray::default());
+        if let Some(s) = self.status.last_mut() {
+            *s = u64::MAX;
+        }
+    }
+
     /// Number of rays.
     pub fn len(&self) -> usize {
         self.x.len()
@@ -343,6 +352,12 @@ pub(super) struct Bits {
 }
 
 #[cfg(target_arch = "x86_64")]
+thread_local! {
+    /// Each thread's chunk between traces ([`Chunk::for_tracer`]).
+    static SPARE_CHUNK: std::cell::Cell<Option<Box<Chunk>>> = const { std::cell::Cell::new(None) };
+}
+
+#[cfg(target_arch = "x86_64")]
 impl Chunk {
     fn new() -> Box<Self> {
         let v = [[0.0; 4]; VECTORS];
@@ -360,13 +375,25 @@ impl Chunk {
         })
     }
 
-    /// A chunk for tracing through `t`'s steps.
+    /// A chunk for tracing through `t`'s steps: this thread's spare one
+    /// ([`Chunk::keep`]) where there is one, else a new one. Made per
+    /// trace, a chunk (13 KiB, built and copied to the heap) cost more than
+    /// tracing the few rays of a small batch; every field the kernel reads
+    /// is written before it is read, so a used chunk serves as a new one.
     #[inline(always)]
     fn for_tracer(t: &Tracer) -> Box<Self> {
-        let mut c = Chunk::new();
+        let mut c = SPARE_CHUNK.take().unwrap_or_else(Chunk::new);
+        c.alive = 0;
         // each asphere in the lanes the steps will take, only those (a
-        // ring table each, made per trace)
+        // ring table each, made per trace); no list at all for a tracer
+        // without aspheres (a list of empty entries, each the size of an
+        // asphere's tables, cost a small batch more than its tracing)
         c.wide = wide_registers();
+        c.aspheres.clear();
+        c.aspheres8.clear();
+        if t.steps.iter().all(|s| s.asphere.is_none()) {
+            return c;
+        }
         if c.wide {
             // SAFETY: the CPU has AVX-512F and VL (checked by wide_registers).
             c.aspheres8 = unsafe { wide_aspheres(t) };
@@ -375,6 +402,11 @@ impl Chunk {
                 t.steps.iter().map(|s| s.asphere.map(|a| AsphereLanes::with_zones(s.c, &a, s.sd2, s.zones))).collect();
         }
         c
+    }
+
+    /// Keeps `c` as this thread's spare chunk for the next trace.
+    fn keep(c: Box<Self>) {
+        SPARE_CHUNK.set(Some(c));
     }
 
     /// Puts ray `i` (global frame) with its status into the chunk.
@@ -424,8 +456,8 @@ impl Tracer {
     /// Traces every ray of `batch` in place. The batch's rays start in the
     /// global frame and end there, holding the state described by
     /// [`Outcome`]; rays whose `status` is already non-zero are left alone,
-    /// and path lengths add to the `opl` a ray starts with. Allocates one
-    /// chunk buffer (about 13 KiB) per call, nothing per ray.
+    /// and path lengths add to the `opl` a ray starts with. Uses one
+    /// chunk buffer (about 13 KiB, kept per thread), nothing per ray.
     pub fn trace_soa(&self, batch: &mut RayBatch) {
         if self.steps.is_empty() {
             // an empty range: nothing to cross
@@ -462,7 +494,7 @@ impl Tracer {
     }
 
     /// Traces `rays` into `out` (pairs up to the shorter length), chunk by
-    /// chunk: one chunk buffer per call, no allocation per ray.
+    /// chunk: one chunk buffer (kept per thread), no allocation per ray.
     pub fn trace_batch(&self, rays: &[Ray], out: &mut [Outcome]) {
         #[cfg(target_arch = "x86_64")]
         if simd_fma() {
@@ -575,6 +607,7 @@ impl Tracer {
             }
             start += m;
         }
+        Chunk::keep(c);
     }
 
     /// [`Self::trace_batch`] on AVX2 + FMA, a chunk at a time.
@@ -627,6 +660,7 @@ impl Tracer {
                 out[i] = self.decode(ray, l.opl, st);
             }
         }
+        Chunk::keep(c);
     }
 
     /// Runs every step over the first `m` rays of the chunk.

@@ -20,11 +20,13 @@
 //! wavelength a render samples.
 
 use super::aperture::Aperture;
+use super::lamp_patches::{RealLampAim, SHARE};
 use super::pupil::PupilTables;
 use super::{CameraError, CameraSample, Frame, SpectralLane};
 use crate::geometry::Ray;
 use crate::spectrum::sampled::N;
 use crate::spectrum::SampledWavelengths;
+use glam::DVec2;
 use lens::trace::SpectralBatch;
 use lens::{DVec3, Prescription, RayBatch, Tracer};
 
@@ -50,6 +52,9 @@ pub struct RealLensCamera {
     /// Mean unnormalised weight at the film centre: weights are divided by
     /// it, so the centre of the image has exposure 1.
     norm: f64,
+    /// The small lamps a share of the samples aims at (none until
+    /// [`RealLensCamera::aim_at_lamps`]).
+    lamps: RealLampAim,
 }
 
 /// How camera rays go through the lens.
@@ -176,6 +181,7 @@ impl RealLensCamera {
             tables,
             aperture,
             norm: 1.0,
+            lamps: RealLampAim::default(),
         };
         let centre = cam.mean_weight_at_centre();
         if !(centre.is_finite() && centre > 0.0) {
@@ -217,14 +223,67 @@ impl RealLensCamera {
         sum / N as f64
     }
 
+    /// Aims a share of the samples at the small emissive spheres `lamps`
+    /// (centre and radius, scene metres) through the lens, where their
+    /// patches of the pupil can be seen ([`super::lamp_patches`]); an
+    /// empty list (or more than [`super::lamp_patches::MAX_LAMPS`]) turns
+    /// aiming off. The picture is the same in expectation either way.
+    pub fn aim_at_lamps(&mut self, lamps: &[(DVec3, f64)]) {
+        let in_lens: Vec<(DVec3, f64)> = lamps
+            .iter()
+            .map(|&(c, r)| (self.to_lens(&Ray { origin: c, dir: self.frame.forward }).0, r * 1e3))
+            .collect();
+        let p = &self.prescription;
+        let first_sd = p.surfaces()[0].semi_diameter.unwrap_or(3.0 * self.stop_sd);
+        self.lamps = RealLampAim::build(&in_lens, &self.back, first_sd, self.z_film, self.z_rear, p.wavelength_nm());
+    }
+
+    /// The lamps aimed at ([`Self::aim_at_lamps`]).
+    pub fn lamp_aim(&self) -> &RealLampAim {
+        &self.lamps
+    }
+
     /// The lens-frame film point and rear-plane target of a sample, and the
-    /// area of the region the target was drawn from (mm^2).
+    /// inverse of the density (per mm^2 of the rear plane) it was drawn
+    /// with: the area of the pupil bounds it was drawn from uniformly, or
+    /// where a lamp's patch can be seen, the mixture's with lamp aiming.
     fn target(&self, s: &CameraSample) -> Option<(DVec3, DVec3, f64)> {
         // the lens inverts the image: film point opposite the scene point
         let fx = -(s.film.0 - 0.5) * self.sensor[0];
         let fy = -(0.5 - s.film.1) * self.sensor[1];
+        let film = DVec3::new(fx, fy, self.z_film);
+        if self.lamps.is_on() {
+            let area = self.tables.area_at(fx, fy)?;
+            let seen = self.lamps.seen(fx, fy, area);
+            if !seen.is_empty() {
+                let a = s.aperture;
+                let r = if a.0 < SHARE {
+                    self.lamps.draw(&seen, fx, fy, (a.0 / SHARE, a.1))?
+                } else {
+                    let (_, (bx, by)) = self.tables.sample(fx, fy, ((a.0 - SHARE) / (1.0 - SHARE), a.1))?;
+                    DVec2::new(bx, by)
+                };
+                let density = (1.0 - SHARE) / area + SHARE * self.lamps.density(&seen, fx, fy, r);
+                return Some((film, DVec3::new(r.x, r.y, self.z_rear), 1.0 / density));
+            }
+        }
         let (area, (bx, by)) = self.tables.sample(fx, fy, s.aperture)?;
-        Some((DVec3::new(fx, fy, self.z_film), DVec3::new(bx, by, self.z_rear), area))
+        Some((film, DVec3::new(bx, by, self.z_rear), area))
+    }
+
+    /// The inverse of the density (per mm^2 of the rear plane) with which
+    /// [`Self::target`] draws rear-plane target `r` from film point (fx,
+    /// fy) (lens frame, mm): what a wavelength's lane needs for the
+    /// balance heuristic. `None` where no ray passes from there.
+    fn inverse_density(&self, fx: f64, fy: f64, r: DVec2) -> Option<f64> {
+        let area = self.tables.area_at(fx, fy)?;
+        if self.lamps.is_on() {
+            let seen = self.lamps.seen(fx, fy, area);
+            if !seen.is_empty() {
+                return Some(1.0 / ((1.0 - SHARE) / area + SHARE * self.lamps.density(&seen, fx, fy, r)));
+            }
+        }
+        Some(area)
     }
 
     /// Traces `samples` (each at its wavelength, if it has one and the
@@ -370,8 +429,10 @@ impl RealLensCamera {
                 continue;
             }
             let (fx, fy) = (r.x[i], r.y[i]);
-            let Some(area) = self.tables.area_at(fx, fy) else { continue };
             let cos = r.dz[i];
+            // the rear-plane target of this film point's ray
+            let rear = DVec2::new(fx, fy) - DVec2::new(r.dx[i], r.dy[i]) * (d / cos);
+            let Some(area) = self.inverse_density(fx, fy, rear) else { continue };
             let w = area * cos.powi(4) / (d * d);
             if let Some((_, lanes)) = &mut out[k] {
                 lanes[j] = SpectralLane {

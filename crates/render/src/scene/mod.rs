@@ -495,15 +495,19 @@ impl Scene {
             field,
             source,
         })?;
-        if let Camera::ThinLens { aperture, focus_shift, lamps, .. } = &mut camera {
-            let spheres = (0..shapes.len())
-                .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }))
-                .filter_map(|i| match shapes[i] {
-                    Shape::Sphere { center, radius } => Some((center, radius)),
-                    _ => None,
-                })
-                .collect();
-            *lamps = crate::camera::LampAim::new(spheres, aperture, *focus_shift);
+        let spheres: Vec<(DVec3, f64)> = (0..shapes.len())
+            .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }))
+            .filter_map(|i| match shapes[i] {
+                Shape::Sphere { center, radius } => Some((center, radius)),
+                _ => None,
+            })
+            .collect();
+        match &mut camera {
+            Camera::ThinLens { aperture, focus_shift, lamps, .. } => {
+                *lamps = crate::camera::LampAim::new(spheres, aperture, *focus_shift);
+            }
+            Camera::Real(c) => c.aim_at_lamps(&spheres),
+            Camera::Pinhole { .. } => {}
         }
         let warnings = camera::settings_warnings(&file.camera, &camera, &shapes);
         let camera_summary = camera::summary(&file.camera, &camera);

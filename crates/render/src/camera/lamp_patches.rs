@@ -238,6 +238,11 @@ impl LampPatch {
         if !(converged || f.length() < 1e-8) || v.length() > self.radius {
             return 0.0;
         }
+        // only what the draw itself reaches: its search from the same start
+        // must end at this pupil point (where it fails, no sample has r)
+        if !self.pupil_point(x, v).is_some_and(|h| (h - g).length() < 1e-6) {
+            return 0.0;
+        }
         match self.jacobian_det(g, v) {
             Some(det) => 1.0 / (std::f64::consts::PI * self.radius * self.radius * det.abs()),
             None => 0.0,
@@ -405,8 +410,9 @@ fn eval(c: &Quintic, t: &[f64; TERMS]) -> DVec2 {
 }
 
 /// The least-squares quintic through the pairs (pupil point, lens-frame
-/// point); `None` when the pupil points do not fix one.
-fn fit(pairs: &[(DVec2, DVec2)]) -> Option<Quintic> {
+/// point), and its largest miss (mm); `None` when the pupil points do not
+/// fix one.
+fn fit(pairs: &[(DVec2, DVec2)]) -> Option<(Quintic, f64)> {
     if pairs.len() < 2 * TERMS {
         return None;
     }
@@ -422,7 +428,8 @@ fn fit(pairs: &[(DVec2, DVec2)]) -> Option<Quintic> {
     for (j, v) in c.iter_mut().enumerate() {
         *v = DVec2::new(cx[j], cy[j]);
     }
-    c.iter().all(|v| v.is_finite()).then_some(c)
+    let worst = pairs.iter().map(|(g, y)| (eval(&c, &monomials(*g)) - *y).length()).fold(0.0, f64::max);
+    (c.iter().all(|v| v.is_finite()) && worst.is_finite()).then_some((c, worst))
 }
 
 /// One lamp's model (see the module), or `None`.
@@ -453,8 +460,25 @@ fn patch(
     let pairs = |m: usize, film: bool| -> Vec<(DVec2, DVec2)> {
         both.iter().filter_map(|&i| traced[m][i].map(|(x, r)| (grid[i], if film { x } else { r }))).collect()
     };
-    let x = [fit(&pairs(0, true))?, fit(&pairs(1, true))?, fit(&pairs(2, true))?];
-    let r = [fit(&pairs(0, false))?, fit(&pairs(1, false))?, fit(&pairs(2, false))?];
+    let fits: Vec<(Quintic, f64)> = [(0, true), (1, true), (2, true), (0, false), (1, false), (2, false)]
+        .iter()
+        .map(|&(m, f)| fit(&pairs(m, f)))
+        .collect::<Option<_>>()?;
+    let x = [fits[0].0, fits[1].0, fits[2].0];
+    let r = [fits[3].0, fits[4].0, fits[5].0];
+    // the polynomials must follow the lens to within a hundredth of the
+    // lamp's own image: how far its light moves on the film and on the
+    // rear plane as the lamp point crosses its radius (else no model: a
+    // poor one would aim worse than the uniform bounds)
+    let t = monomials(DVec2::ZERO);
+    let moves = |q: &[Quintic; 3]| {
+        (eval(&q[1], &t) - eval(&q[0], &t)).length().min((eval(&q[2], &t) - eval(&q[0], &t)).length())
+    };
+    let (x_worst, r_worst) =
+        (fits[..3].iter().map(|f| f.1).fold(0.0, f64::max), fits[3..].iter().map(|f| f.1).fold(0.0, f64::max));
+    if !(x_worst < 0.025 * moves(&x) && r_worst < 0.025 * moves(&r)) {
+        return None;
+    }
     // the film box of every traced landing, grown by 15% of its size
     // for the rays between the grid's and the pupil's rim
     let mut b = [f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY];

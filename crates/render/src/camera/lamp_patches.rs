@@ -31,6 +31,7 @@ use super::real_lens::LensTrace;
 use glam::{DVec2, DVec3};
 use lens::trace::SpectralBatch;
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 
 /// The share of samples aimed at lamps where one can be seen.
 pub(crate) const SHARE: f64 = 0.5;
@@ -250,14 +251,30 @@ impl LampPatch {
     }
 }
 
-/// The lamps a real-lens camera aims at: each lamp's model.
+/// The lamps a real-lens camera aims at: each lamp's model, for each of a
+/// few wavelengths across the spectrum a render samples (one, the primary,
+/// for a lens without glasses). A sample uses the models of the band
+/// nearest its wavelength, and so does the density of each of a spectral
+/// sample's wavelengths: a lamp's patch moves with the wavelength through a
+/// dispersive lens, and the models follow it.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct RealLampAim {
+    bands: Vec<Band>,
+    /// The wavelength of samples that carry none (RGB), nm.
+    primary: f64,
+}
+
+/// The lamps' models at one wavelength.
+#[derive(Debug, Clone, PartialEq)]
+struct Band {
+    nm: f64,
     patches: Vec<LampPatch>,
 }
 
-/// The lamps seen from one film point (indices into the list).
+/// The lamps seen from one film point at one wavelength (the band, and
+/// indices into its list).
 pub(crate) struct Seen {
+    band: usize,
     which: [u8; MAX_LAMPS],
     n: usize,
 }
@@ -269,34 +286,49 @@ impl Seen {
     }
 }
 
+/// Wavelength bands of a dispersive lens's lamp models.
+const BANDS: usize = 8;
+
 impl RealLampAim {
     /// Whether any lamp is aimed at.
     pub fn is_on(&self) -> bool {
-        !self.patches.is_empty()
+        self.bands.iter().any(|b| !b.patches.is_empty())
     }
 
-    /// How many lamps have a model.
+    /// How many lamps have a model at the primary wavelength.
     pub fn lamps(&self) -> usize {
-        self.patches.len()
+        self.bands.get(self.band(None)).map_or(0, |b| b.patches.len())
+    }
+
+    /// The band nearest `nm` (`None`: the primary wavelength).
+    fn band(&self, nm: Option<f64>) -> usize {
+        let nm = nm.unwrap_or(self.primary);
+        (0..self.bands.len())
+            .min_by(|&a, &b| (self.bands[a].nm - nm).abs().total_cmp(&(self.bands[b].nm - nm).abs()))
+            .unwrap_or(0)
     }
 
     /// Builds the models of `lamps` (centre and radius, lens frame, mm) by
     /// tracing, for each, a grid of rays from its centre and from its
     /// centre moved by its radius across the line of sight (twice) through
     /// the first surface's clear aperture (`first_sd`, mm, at the first
-    /// vertex) to the film (`scene_to_film`, at `nm`). A lamp whose rays do
-    /// not reach the film in enough places (fewer than 42, twice the
-    /// polynomials' terms, or too few to fix them) gets no model; at most
-    /// [`MAX_LAMPS`] lamps (none beyond).
+    /// vertex) to the film (`scene_to_film`), at the primary wavelength
+    /// `primary` (nm) or, where `spectrum` gives a range (nm), at
+    /// [`BANDS`] wavelengths spread over it. A lamp whose rays do not reach
+    /// the film in enough places (fewer than 42, twice the polynomials'
+    /// terms, or too few to fix them) or whose polynomials do not follow
+    /// them gets no model at that wavelength; at most [`MAX_LAMPS`] lamps
+    /// (none beyond).
     pub(crate) fn build(
         lamps: &[(DVec3, f64)],
         scene_to_film: &LensTrace,
         first_sd: f64,
         z_film: f64,
         z_rear: f64,
-        nm: f64,
+        primary: f64,
+        spectrum: Option<(f64, f64)>,
     ) -> Self {
-        if lamps.len() > MAX_LAMPS || !(first_sd.is_finite() && first_sd > 0.0) {
+        if lamps.is_empty() || lamps.len() > MAX_LAMPS || !(first_sd.is_finite() && first_sd > 0.0) {
             return RealLampAim::default();
         }
         let grid: Vec<DVec2> = (0..GRID * GRID)
@@ -306,21 +338,35 @@ impl RealLampAim {
             })
             .filter(|p| p.length() <= 1.0)
             .collect();
-        let patches = lamps
-            .iter()
-            .filter_map(|&(c, r)| patch(c, r, &grid, first_sd, scene_to_film, z_film, z_rear, nm))
+        // a band's middle wavelength each, over the range
+        let nms: Vec<f64> = match spectrum {
+            Some((lo, hi)) if lo < hi => (0..BANDS).map(|k| lo + (hi - lo) * (k as f64 + 0.5) / BANDS as f64).collect(),
+            _ => vec![primary],
+        };
+        let spectral = nms.len() > 1;
+        let bands = nms
+            .par_iter()
+            .map(|&nm| Band {
+                nm,
+                patches: lamps
+                    .iter()
+                    .filter_map(|&(c, r)| patch(c, r, &grid, first_sd, scene_to_film, (z_film, z_rear), nm, spectral))
+                    .collect(),
+            })
             .collect();
-        RealLampAim { patches }
+        RealLampAim { bands, primary }
     }
 
-    /// The lamps that can be seen from film point (fx, fy) through a patch
-    /// smaller than the uniform bounds there (`uniform_area`, mm^2): a lamp
-    /// in focus is seen through the whole pupil, and aiming at it would
-    /// gain nothing.
-    pub(crate) fn seen(&self, fx: f64, fy: f64, uniform_area: f64) -> Seen {
+    /// The lamps that can be seen at wavelength `nm` (`None`: the primary)
+    /// from film point (fx, fy) through a patch smaller than the uniform
+    /// bounds there (`uniform_area`, mm^2): a lamp in focus is seen through
+    /// the whole pupil, and aiming at it would gain nothing.
+    pub(crate) fn seen(&self, fx: f64, fy: f64, uniform_area: f64, nm: Option<f64>) -> Seen {
         let x = DVec2::new(fx, fy);
-        let mut s = Seen { which: [0; MAX_LAMPS], n: 0 };
-        for (k, p) in self.patches.iter().enumerate() {
+        let band = self.band(nm);
+        let mut s = Seen { band, which: [0; MAX_LAMPS], n: 0 };
+        let Some(b) = self.bands.get(band) else { return s };
+        for (k, p) in b.patches.iter().enumerate() {
             if p.covers(x) && p.area(x).is_some_and(|a| a < uniform_area) {
                 s.which[s.n] = k as u8;
                 s.n += 1;
@@ -335,7 +381,7 @@ impl RealLampAim {
     pub(crate) fn draw(&self, seen: &Seen, fx: f64, fy: f64, a: (f64, f64)) -> Option<DVec2> {
         let scaled = a.0 * seen.n as f64;
         let j = (scaled as usize).min(seen.n.checked_sub(1)?);
-        let p = &self.patches[seen.which[j] as usize];
+        let p = &self.bands[seen.band].patches[seen.which[j] as usize];
         let (radius, phi) = ((scaled - j as f64).clamp(0.0, 1.0).sqrt() * p.radius, std::f64::consts::TAU * a.1);
         p.target(DVec2::new(fx, fy), DVec2::new(phi.cos(), phi.sin()) * radius)
     }
@@ -347,7 +393,8 @@ impl RealLampAim {
             return 0.0;
         }
         let x = DVec2::new(fx, fy);
-        seen.which[..seen.n].iter().map(|&k| self.patches[k as usize].density(x, r)).sum::<f64>() / seen.n as f64
+        let patches = &self.bands[seen.band].patches;
+        seen.which[..seen.n].iter().map(|&k| patches[k as usize].density(x, r)).sum::<f64>() / seen.n as f64
     }
 }
 
@@ -358,9 +405,9 @@ fn landings(
     from: DVec3,
     grid: &[DVec2],
     scene_to_film: &LensTrace,
-    z_film: f64,
-    z_rear: f64,
+    (z_film, z_rear): (f64, f64),
     nm: f64,
+    spectral: bool,
 ) -> Vec<Option<(DVec2, DVec2)>> {
     let mut batch = SpectralBatch::with_capacity(grid.len());
     for g in grid {
@@ -374,7 +421,7 @@ fn landings(
         }
     }
     let mut t = Vec::new();
-    scene_to_film.trace(&mut batch, false, &mut t, |_, _| 1.0);
+    scene_to_film.trace(&mut batch, spectral, &mut t, |_, _| 1.0);
     let r = &batch.rays;
     (0..grid.len())
         .map(|i| {
@@ -432,7 +479,8 @@ fn fit(pairs: &[(DVec2, DVec2)]) -> Option<(Quintic, f64)> {
     (c.iter().all(|v| v.is_finite()) && worst.is_finite()).then_some((c, worst))
 }
 
-/// One lamp's model (see the module), or `None`.
+/// One lamp's model (see the module) at `nm` (traced at that wavelength
+/// when `spectral`, else at the lens's primary), or `None`.
 #[allow(clippy::too_many_arguments)]
 fn patch(
     c: DVec3,
@@ -440,9 +488,9 @@ fn patch(
     grid: &[DVec2],
     first_sd: f64,
     scene_to_film: &LensTrace,
-    z_film: f64,
-    z_rear: f64,
+    planes: (f64, f64),
     nm: f64,
+    spectral: bool,
 ) -> Option<LampPatch> {
     // in front of the first vertex, clear of it
     if !(c.is_finite() && radius > 0.0 && c.z + radius < 0.0) {
@@ -454,7 +502,7 @@ fn patch(
     let points = [c, c + u1 * radius, c + u2 * radius];
     let in_mm: Vec<DVec2> = grid.iter().map(|g| *g * first_sd).collect();
     let traced: Vec<Vec<Option<(DVec2, DVec2)>>> =
-        points.iter().map(|&o| landings(o, &in_mm, scene_to_film, z_film, z_rear, nm)).collect();
+        points.iter().map(|&o| landings(o, &in_mm, scene_to_film, planes, nm, spectral)).collect();
     // the pupil points every lamp point's ray passes through
     let both: Vec<usize> = (0..grid.len()).filter(|&i| traced.iter().all(|t| t[i].is_some())).collect();
     let pairs = |m: usize, film: bool| -> Vec<(DVec2, DVec2)> {

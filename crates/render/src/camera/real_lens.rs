@@ -235,7 +235,10 @@ impl RealLensCamera {
             .collect();
         let p = &self.prescription;
         let first_sd = p.surfaces()[0].semi_diameter.unwrap_or(3.0 * self.stop_sd);
-        self.lamps = RealLampAim::build(&in_lens, &self.back, first_sd, self.z_film, self.z_rear, p.wavelength_nm());
+        // a dispersive lens's models over the spectrum a render samples
+        let spectrum = p.is_dispersive().then(|| crate::spectrum::cie::range_through(p.glasses()));
+        self.lamps =
+            RealLampAim::build(&in_lens, &self.back, first_sd, self.z_film, self.z_rear, p.wavelength_nm(), spectrum);
     }
 
     /// The lamps aimed at ([`Self::aim_at_lamps`]).
@@ -254,7 +257,7 @@ impl RealLensCamera {
         let film = DVec3::new(fx, fy, self.z_film);
         if self.lamps.is_on() {
             let area = self.tables.area_at(fx, fy)?;
-            let seen = self.lamps.seen(fx, fy, area);
+            let seen = self.lamps.seen(fx, fy, area, s.wavelength_nm);
             if !seen.is_empty() {
                 let a = s.aperture;
                 let r = if a.0 < SHARE {
@@ -273,12 +276,13 @@ impl RealLensCamera {
 
     /// The inverse of the density (per mm^2 of the rear plane) with which
     /// [`Self::target`] draws rear-plane target `r` from film point (fx,
-    /// fy) (lens frame, mm): what a wavelength's lane needs for the
-    /// balance heuristic. `None` where no ray passes from there.
-    fn inverse_density(&self, fx: f64, fy: f64, r: DVec2) -> Option<f64> {
+    /// fy) (lens frame, mm) for a sample of wavelength `nm` (`None`: RGB):
+    /// what a wavelength's lane needs for the balance heuristic. `None`
+    /// where no ray passes from there.
+    fn inverse_density(&self, fx: f64, fy: f64, r: DVec2, nm: Option<f64>) -> Option<f64> {
         let area = self.tables.area_at(fx, fy)?;
         if self.lamps.is_on() {
-            let seen = self.lamps.seen(fx, fy, area);
+            let seen = self.lamps.seen(fx, fy, area, nm);
             if !seen.is_empty() {
                 return Some(1.0 / ((1.0 - SHARE) / area + SHARE * self.lamps.density(&seen, fx, fy, r)));
             }
@@ -432,7 +436,7 @@ impl RealLensCamera {
             let cos = r.dz[i];
             // the rear-plane target of this film point's ray
             let rear = DVec2::new(fx, fy) - DVec2::new(r.dx[i], r.dy[i]) * (d / cos);
-            let Some(area) = self.inverse_density(fx, fy, rear) else { continue };
+            let Some(area) = self.inverse_density(fx, fy, rear, Some(wavelengths[k].nm[j])) else { continue };
             let w = area * cos.powi(4) / (d * d);
             if let Some((_, lanes)) = &mut out[k] {
                 lanes[j] = SpectralLane {

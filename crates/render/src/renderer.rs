@@ -314,7 +314,7 @@ fn spectral_group(
             sum += if dispersive {
                 let Some((_, lane)) = &b.lanes[k] else { continue };
                 match row.splats.as_mut() {
-                    Some(sp) => splat_sample(wl, l, lane, (x, y), sp),
+                    Some(sp) => splat_sample(wl, l, lane, (x, y), film_cell(plan, k - i * spp, (x, y)), sp),
                     None => {
                         let pixel = |film: (f64, f64)| pixel_density(scene.film.filter, film, (x, y), (w, h));
                         combine(wl, l, lane, pixel)
@@ -327,6 +327,15 @@ fn spectral_group(
         }
         row.pixels.push(cie::xyz_to_rgb(sum / (spp as f64 * cie::y_integral())));
     }
+}
+
+/// The cell of pixel (`x`, `y`) its `k`th sample's film point was drawn
+/// in (box filter): its centre and half-size, film u, v; the pixel itself
+/// for the samples beyond the strata.
+fn film_cell(plan: &Plan, k: usize, (x, y): (usize, usize)) -> ((f64, f64), (f64, f64)) {
+    let (w, h, n) = (plan.width as f64, plan.height as f64, plan.strata);
+    let (i, j, side) = if k < n * n { ((k % n) as f64, (k / n) as f64, n as f64) } else { (0.0, 0.0, 1.0) };
+    (((x as f64 + (i + 0.5) / side) / w, (y as f64 + (j + 0.5) / side) / h), (0.5 / (side * w), 0.5 / (side * h)))
 }
 
 /// Each spectral sample that passed the camera followed into the scene:

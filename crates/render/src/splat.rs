@@ -72,14 +72,23 @@ impl Splats {
 /// lens, box filter: each wavelength's XYZ, `l x̄ T / (p(λ) Σ_m q_m)` (`T`
 /// its transmission, `p` its wavelength density, `q_m` the pupil density
 /// with which the camera would have drawn the scene ray with wavelength `m`
-/// as the hero), goes to the pixel its film point lies in: the returned
-/// value for (`x`, `y`) itself, `splats` for the others (off the film:
-/// nowhere). Where the scene ended the companions, the hero alone, here.
+/// as the hero), goes to the pixels its film point may lie in: the hero's
+/// to the pixel of its film point; a companion's over the pixels that the
+/// cell its hero was drawn in (`cell`: centre and half-size, film u, v),
+/// moved by the companion's offset from the hero, overlaps, each the share
+/// it overlaps. That is where the companion's film point lies on average
+/// over the hero's draw within its cell (exactly, where the offset does not
+/// change across the cell); a point splat sends each companion to one
+/// pixel or the next at random, and a pixel got a random mix of
+/// wavelengths (colour speckle, docs/rendering.md). The returned value is
+/// for (`x`, `y`) itself, `splats` has the others (off the film: nowhere).
+/// Where the scene ended the companions, the hero alone, here.
 pub(crate) fn splat_sample(
     wl: &SampledWavelengths,
     l: SampledSpectrum,
     lanes: &[SpectralLane; N],
     (x, y): (usize, usize),
+    cell: ((f64, f64), (f64, f64)),
     splats: &mut Splats,
 ) -> DVec3 {
     if wl.secondary_terminated() {
@@ -96,21 +105,45 @@ pub(crate) fn splat_sample(
     }
     let (w, h) = (splats.w as f64, splats.h as f64);
     let mut own = DVec3::ZERO;
-    for (j, lane) in lanes.iter().enumerate() {
-        let f = l.0[j] * lane.transmission;
-        if lane.density <= 0.0 || f == 0.0 {
-            continue;
-        }
-        let xyz = cie::cmf(wl.nm[j]) * (f / (wl.pdf[j] * total));
-        let (px, py) = ((lane.film.0 * w).floor(), (lane.film.1 * h).floor());
+    let mut put = |px: f64, py: f64, xyz: DVec3| {
         if !(px >= 0.0 && py >= 0.0 && px < w && py < h) {
-            continue;
+            return;
         }
         let (px, py) = (px as usize, py as usize);
         if (px, py) == (x, y) {
             own += xyz;
         } else {
             splats.add(px, py, xyz);
+        }
+    };
+    let ((cu, cv), (hu, hv)) = cell;
+    for (j, lane) in lanes.iter().enumerate() {
+        let f = l.0[j] * lane.transmission;
+        if lane.density <= 0.0 || f == 0.0 {
+            continue;
+        }
+        let xyz = cie::cmf(wl.nm[j]) * (f / (wl.pdf[j] * total));
+        if j == 0 || !(hu > 0.0 && hv > 0.0) {
+            put((lane.film.0 * w).floor(), (lane.film.1 * h).floor(), xyz);
+            continue;
+        }
+        // the hero's cell moved by this lane's offset, in pixels
+        let (du, dv) = (lane.film.0 - lanes[0].film.0, lane.film.1 - lanes[0].film.1);
+        let (u0, u1) = ((cu + du - hu) * w, (cu + du + hu) * w);
+        let (v0, v1) = ((cv + dv - hv) * h, (cv + dv + hv) * h);
+        if !(u0.is_finite() && u1.is_finite() && v0.is_finite() && v1.is_finite()) {
+            continue;
+        }
+        let area = (u1 - u0) * (v1 - v0);
+        // the cell is at most a pixel wide: two columns and two rows at most
+        let (pu, pv) = (u0.floor(), v0.floor());
+        for (qu, a) in [(pu, (u1.min(pu + 1.0) - u0).max(0.0)), (pu + 1.0, (u1 - (pu + 1.0)).max(0.0))] {
+            for (qv, b) in [(pv, (v1.min(pv + 1.0) - v0).max(0.0)), (pv + 1.0, (v1 - (pv + 1.0)).max(0.0))] {
+                let share = a * b / area;
+                if share > 0.0 {
+                    put(qu, qv, xyz * share);
+                }
+            }
         }
     }
     own
@@ -134,7 +167,9 @@ mod tests {
             [lane(film(4.0, 4.0), 2.0), lane(film(5.0, 4.0), 1.0), lane(film(4.0, 9.0), 1.5), lane((1.2, 0.5), 1.0)];
         let l = SampledSpectrum([1.0, 2.0, 3.0, 4.0]);
         let mut splats = Splats::new(4, w, h);
-        let own = splat_sample(&wl, l, &lanes, (4, 4), &mut splats);
+        // the hero drawn in a quarter-pixel cell around its film point
+        let cell = (film(4.0, 4.0), (0.125 / w as f64, 0.125 / h as f64));
+        let own = splat_sample(&wl, l, &lanes, (4, 4), cell, &mut splats);
         let total = 5.5;
         let part = |j: usize| cie::cmf(wl.nm[j]) * (l.0[j] * 0.9 / (wl.pdf[j] * total));
         assert!((own - part(0)).length() < 1e-12 * own.length());
@@ -145,5 +180,28 @@ mod tests {
         // the fourth lane left the film: nowhere
         let elsewhere: DVec3 = img.iter().copied().sum::<DVec3>() - img[4 * w + 5] - img[9 * w + 4];
         assert!(elsewhere.length() < 1e-12);
+    }
+
+    /// A companion half a pixel to the right of its hero, whose cell spans
+    /// the pixel, goes half to the hero's pixel and half to the next: what
+    /// its film point gives on average over the hero's draw in that cell.
+    #[test]
+    fn a_companion_goes_where_its_film_point_lies_on_average() {
+        let (w, h) = (10, 10);
+        let wl = crate::spectrum::WavelengthRange::new(360.0, 830.0).sample_four(0.3);
+        let lane = |film: (f64, f64)| SpectralLane { film, transmission: 1.0, density: 1.0 };
+        let hero = (0.45, 0.45);
+        let lanes = [lane(hero), lane((0.50, 0.45)), lane(hero), lane(hero)];
+        let l = SampledSpectrum([0.0, 1.0, 0.0, 0.0]);
+        let mut splats = Splats::new(4, w, h);
+        let cell = ((0.45, 0.45), (0.05, 0.05));
+        let own = splat_sample(&wl, l, &lanes, (4, 4), cell, &mut splats);
+        let mut img = vec![DVec3::ZERO; w * h];
+        splats.merge_into(&mut img, 1.0);
+        let next = img[4 * w + 5];
+        let own = cie::xyz_to_rgb(own);
+        assert!((own - next).length() < 1e-12 * own.length(), "{own} against {next}");
+        let whole = cie::xyz_to_rgb(cie::cmf(wl.nm[1]) * (1.0 / (wl.pdf[1] * 4.0)));
+        assert!((own + next - whole).length() < 1e-12 * whole.length());
     }
 }

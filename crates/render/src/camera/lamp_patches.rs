@@ -22,10 +22,14 @@
 //! follow the lens. The density of that target, per rear-plane area, is
 //! `1 / (pi R^2 |det J|)` with `J = dr/dv` at fixed `x` (`r_v - r_g x_g^-1
 //! x_v`), known for any film point and target (found by solving
-//! `x(g, v) = x`, `r(g, v) = r`), which is what the balance heuristic over
-//! the mixture with uniform targets needs, for every sample and for a
-//! spectral render's other wavelengths: the estimate stays unbiased however
-//! well the polynomials follow the lens (docs/rendering.md).
+//! `x(g, v) = x`, `r(g, v) = r`, and counted only where the draw's own
+//! search from the same start reaches the same pupil point), which is what
+//! the balance heuristic over the mixture with uniform targets needs, for
+//! every sample and for a spectral render's other wavelengths: the estimate
+//! stays unbiased however well the polynomials follow the lens. A lamp
+//! whose polynomials miss its traced rays by more than 2.5% of its own
+//! image gets no model; through a dispersive lens the models are made in
+//! [`BANDS`] wavelength bands (docs/rendering.md).
 
 use super::real_lens::LensTrace;
 use glam::{DVec2, DVec3};

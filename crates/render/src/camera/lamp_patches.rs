@@ -16,7 +16,7 @@
 //! Newton's method on the polynomials.
 //!
 //! A camera sample from which some lamp can be seen is drawn, with
-//! probability [`SHARE`], by picking one of those lamps uniformly and a point
+//! probability `SHARE` (a half), by picking one of those lamps uniformly and a point
 //! `v` uniformly on its disc, solving `x(g, v) = x` for `g` and aiming at
 //! `r(g, v)`: its ray meets the lamp at `v` as nearly as the polynomials
 //! follow the lens. The density of that target, per rear-plane area, is
@@ -29,7 +29,7 @@
 //! stays unbiased however well the polynomials follow the lens. A lamp
 //! whose polynomials miss its traced rays by more than 2.5% of its own
 //! image gets no model; through a dispersive lens the models are made in
-//! [`BANDS`] wavelength bands (docs/rendering.md).
+//! `BANDS` (eight) wavelength bands (docs/rendering.md).
 
 use super::real_lens::LensTrace;
 use glam::{DVec2, DVec3};

@@ -107,8 +107,8 @@ pub enum Companions {
 ///
 /// The loop in one screen: the film is made in bands of rows (all rows at
 /// once unless the render splats), each band's rows in parallel
-/// ([`render_row`]), then the band's rows and splats added to the film in
-/// row order ([`add_band`]).
+/// (`render_row`), then the band's rows and splats added to the film in
+/// row order (`add_band`).
 pub fn render_with(
     scene: &Scene,
     opt: Options,

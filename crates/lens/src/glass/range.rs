@@ -97,7 +97,7 @@ impl Glass {
     /// Checks that the index has a value at every wavelength from `lo_nm`
     /// to `hi_nm` (a spectral trace's band), under `range`: inside the data
     /// the formula holds; outside, each side's extension is sampled at
-    /// [`BAND_CHECKS`] points (poles of the dispersion formulas lie far in
+    /// `BAND_CHECKS` points (poles of the dispersion formulas lie far in
     /// the ultraviolet and infrared, where a sign change of n² - 1 shows
     /// them). The warnings for ends that are extrapolated are
     /// [`Self::range_warning`]'s: a tracer checking every batch makes none.

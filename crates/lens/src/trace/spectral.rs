@@ -41,6 +41,13 @@ impl SpectralBatch {
         self.wavelength_nm.push(wavelength_nm);
     }
 
+    /// Appends a placeholder the tracer leaves alone, at `wavelength_nm`
+    /// ([`RayBatch::push_skipped`]).
+    pub fn push_skipped(&mut self, wavelength_nm: f64) {
+        self.rays.push_skipped();
+        self.wavelength_nm.push(wavelength_nm);
+    }
+
     /// Number of rays.
     pub fn len(&self) -> usize {
         self.rays.len()

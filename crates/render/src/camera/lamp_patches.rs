@@ -417,11 +417,7 @@ fn landings(
     for g in grid {
         match (DVec3::new(g.x, g.y, 0.0) - from).try_normalize() {
             Some(direction) => batch.push(lens::Ray { origin: from, direction }, nm),
-            None => {
-                batch.push(lens::Ray::default(), nm);
-                let last = batch.len() - 1;
-                batch.rays.status[last] = u64::MAX;
-            }
+            None => batch.push_skipped(nm),
         }
     }
     let mut t = Vec::new();

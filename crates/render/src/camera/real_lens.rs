@@ -321,9 +321,7 @@ impl RealLensCamera {
                         factor.push(area * direction.z.powi(4) * inv_d2);
                     }
                     None => {
-                        batch.push(lens::Ray::default(), nm);
-                        let last = batch.len() - 1;
-                        batch.rays.status[last] = u64::MAX;
+                        batch.push_skipped(nm);
                         factor.push(0.0);
                     }
                 }

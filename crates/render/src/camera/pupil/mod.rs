@@ -158,9 +158,7 @@ impl Probe {
             if len > 0.0 && len.is_finite() {
                 batch.push(lens::Ray { origin, direction: d / len });
             } else {
-                batch.push(lens::Ray::default());
-                let last = batch.len() - 1;
-                batch.status[last] = u64::MAX;
+                batch.push_skipped();
             }
         }
     }

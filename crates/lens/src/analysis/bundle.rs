@@ -9,6 +9,7 @@
 use super::launch::Launcher;
 use crate::error::OpticsError;
 use crate::trace::{Outcome, Ray, RayBatch, Tracer};
+use glam::DVec2;
 
 /// How one pupil point's ray ended.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -92,31 +93,56 @@ pub fn launch(
     points: impl Iterator<Item = (f64, f64)>,
     batch: &mut RayBatch,
 ) -> Result<usize, OpticsError> {
-    batch.clear();
-    let mut failed = 0;
-    let mut push = |r: Result<Ray, OpticsError>| -> Result<(), OpticsError> {
-        match r {
-            Ok(r) => batch.push(r),
-            Err(OpticsError::AimingFailed { .. }) => {
-                batch.push_skipped();
-                failed += 1;
-            }
-            Err(e) => return Err(e),
-        }
-        Ok(())
-    };
     if launcher.aim() == super::launch::Aim::Real {
         // real aiming: every point's Newton iterations together
         let points: Vec<(f64, f64)> = points.collect();
-        for ((px, py), e) in points.iter().zip(launcher.aim_many(&points)) {
-            push(e.and_then(|e| launcher.ray_from_pupil(*px, *py, e)))?;
-        }
-    } else {
-        for (px, py) in points {
-            push(launcher.ray(px, py))?;
+        let starts: Vec<DVec2> = points.iter().map(|&(x, y)| launcher.paraxial_aim(x, y)).collect();
+        let aims = launch_aimed(launcher, &points, &starts, batch)?;
+        return Ok(aims.iter().filter(|e| e.is_none()).count());
+    }
+    batch.clear();
+    let mut failed = 0;
+    for (px, py) in points {
+        if push_launched(batch, launcher.ray(px, py))? {
+            failed += 1;
         }
     }
     Ok(failed)
+}
+
+/// Fills `batch` (cleared first) with the real-aimed rays of `launcher`
+/// through `points`, each point's Newton run from its entrance-pupil point
+/// in `starts` (mm; [`Launcher::paraxial_aim`]'s for [`launch`]); a point
+/// aiming cannot place gets a placeholder ray the tracer leaves alone.
+/// Returns each point's entrance-pupil point (`None` where it failed).
+pub(crate) fn launch_aimed(
+    launcher: &Launcher,
+    points: &[(f64, f64)],
+    starts: &[DVec2],
+    batch: &mut RayBatch,
+) -> Result<Vec<Option<DVec2>>, OpticsError> {
+    batch.clear();
+    let mut aims = Vec::with_capacity(points.len());
+    for (&(px, py), e) in points.iter().zip(launcher.aim_many_from(points, starts)) {
+        let aim = e.as_ref().ok().copied();
+        let failed = push_launched(batch, e.and_then(|e| launcher.ray_from_pupil(px, py, e)))?;
+        aims.push(aim.filter(|_| !failed));
+    }
+    Ok(aims)
+}
+
+/// Pushes a launched ray, or for a point aiming could not place a
+/// placeholder the tracer leaves alone (`true`); other errors are returned.
+fn push_launched(batch: &mut RayBatch, r: Result<Ray, OpticsError>) -> Result<bool, OpticsError> {
+    match r {
+        Ok(r) => batch.push(r),
+        Err(OpticsError::AimingFailed { .. }) => {
+            batch.push_skipped();
+            return Ok(true);
+        }
+        Err(e) => return Err(e),
+    }
+    Ok(false)
 }
 
 /// How a ray stopped, in words for a message: the surface numbered from 1,

@@ -9,7 +9,7 @@
 //! that object's paraxial image plane (as optical design programs take an
 //! angle field with a finite object).
 
-use super::bundle::{launch, trace_rays, Bundle, Landing};
+use super::bundle::{launch, launch_aimed, trace_rays, Bundle, Landing};
 use super::launch::{Aim, Field, Launcher};
 use super::refine::{passing_nodes, BLOCK};
 use crate::error::OpticsError;
@@ -121,10 +121,10 @@ pub fn field_curves(
     let n = n.max(2);
     let open_stop = Tracer::forward_without_stop(p);
     let tracers = Tracers { to_film: &tracer, open_stop: &open_stop };
-    let on_axis = vignetting(&base.at_field(geometry.field(0.0))?, &tracers)?;
+    let on_axis = vignetting(&base, &tracers)?;
     // relative illumination fills the real stop whatever the aim asked for
     let real = Launcher::with_first(p, &first, geometry.field(0.0), Aim::Real)?;
-    let light = Light { on_axis: gathered(&real.at_field(geometry.field(0.0))?, &tracer)?, real };
+    let light = Light { on_axis: gathered(&real, &tracer)?, real };
     // the fields on all cores, in order (each field's numbers do not
     // depend on the others or on the thread count)
     let fields = (0..n)
@@ -498,7 +498,7 @@ fn vignetting(launcher: &Launcher, tracers: &Tracers) -> Result<f64, OpticsError
     let pass = passing_nodes(n, inside, |ks| {
         let points: Vec<(f64, f64)> = ks.iter().map(|&k| on_disc(k)).collect();
         let mut batch = RayBatch::with_capacity(ks.len());
-        if real {
+        let launched = if real {
             let starts: Vec<DVec2> = ks
                 .iter()
                 .zip(&points)
@@ -506,21 +506,15 @@ fn vignetting(launcher: &Launcher, tracers: &Tracers) -> Result<f64, OpticsError
                     start_from_corners(n, k, &found, inside, at).unwrap_or_else(|| launcher.paraxial_aim(x, y))
                 })
                 .collect();
-            for ((&k, &(x, y)), e) in ks.iter().zip(&points).zip(launcher.aim_many_from(&points, &starts)) {
-                let ray = e.and_then(|e| {
-                    found[k] = Some(e);
-                    launcher.ray_from_pupil(x, y, e)
-                });
-                match ray {
-                    Ok(r) => batch.push(r),
-                    Err(OpticsError::AimingFailed { .. }) => batch.push_skipped(),
-                    Err(e) => {
-                        error = Some(e);
-                        batch.push_skipped();
-                    }
+            launch_aimed(launcher, &points, &starts, &mut batch).map(|aims| {
+                for (&k, e) in ks.iter().zip(aims) {
+                    found[k] = e;
                 }
-            }
-        } else if let Err(e) = launch(launcher, points.into_iter(), &mut batch) {
+            })
+        } else {
+            launch(launcher, points.into_iter(), &mut batch).map(|_| ())
+        };
+        if let Err(e) = launched {
             error = Some(e);
         }
         tracer.trace_soa(&mut batch);

@@ -334,8 +334,9 @@ fn spectral_group(
 /// for the samples beyond the strata.
 fn film_cell(plan: &Plan, k: usize, (x, y): (usize, usize)) -> ((f64, f64), (f64, f64)) {
     let (w, h, n) = (plan.width as f64, plan.height as f64, plan.strata);
-    let (i, j, side) = if k < n * n { ((k % n) as f64, (k / n) as f64, n as f64) } else { (0.0, 0.0, 1.0) };
-    (((x as f64 + (i + 0.5) / side) / w, (y as f64 + (j + 0.5) / side) / h), (0.5 / (side * w), 0.5 / (side * h)))
+    // the middle of the cell `draw_samples` jittered in (`stratified`)
+    let ((cx, cy), side) = if k < n * n { (stratified(k, n, (0.5, 0.5)), n as f64) } else { ((0.5, 0.5), 1.0) };
+    (((x as f64 + cx) / w, (y as f64 + cy) / h), (0.5 / (side * w), 0.5 / (side * h)))
 }
 
 /// Each spectral sample that passed the camera followed into the scene:

@@ -20,7 +20,7 @@
 //! wavelength a render samples.
 
 use super::aperture::Aperture;
-use super::lamp_patches::{RealLampAim, SHARE};
+use super::lamp_patches::{RealLampAim, Seen, SHARE};
 use super::pupil::PupilTables;
 use super::{CameraError, CameraSample, Frame, SpectralLane};
 use crate::geometry::Ray;
@@ -266,8 +266,7 @@ impl RealLensCamera {
                     let (_, (bx, by)) = self.tables.sample(fx, fy, ((a.0 - SHARE) / (1.0 - SHARE), a.1))?;
                     DVec2::new(bx, by)
                 };
-                let density = (1.0 - SHARE) / area + SHARE * self.lamps.density(&seen, fx, fy, r);
-                return Some((film, DVec3::new(r.x, r.y, self.z_rear), 1.0 / density));
+                return Some((film, DVec3::new(r.x, r.y, self.z_rear), self.mixture(&seen, area, fx, fy, r)));
             }
         }
         let (area, (bx, by)) = self.tables.sample(fx, fy, s.aperture)?;
@@ -284,10 +283,18 @@ impl RealLensCamera {
         if self.lamps.is_on() {
             let seen = self.lamps.seen(fx, fy, area, nm);
             if !seen.is_empty() {
-                return Some(1.0 / ((1.0 - SHARE) / area + SHARE * self.lamps.density(&seen, fx, fy, r)));
+                return Some(self.mixture(&seen, area, fx, fy, r));
             }
         }
         Some(area)
+    }
+
+    /// The inverse of the mixture's density at target `r` from film point
+    /// (fx, fy), where the lamps `seen` are aimed at: uniform over the
+    /// bounds of `area` (mm^2) with probability `1 - SHARE`, a lamp's
+    /// patch with `SHARE`.
+    fn mixture(&self, seen: &Seen, area: f64, fx: f64, fy: f64, r: DVec2) -> f64 {
+        1.0 / ((1.0 - SHARE) / area + SHARE * self.lamps.density(seen, fx, fy, r))
     }
 
     /// Traces `samples` (each at its wavelength, if it has one and the

@@ -407,15 +407,24 @@ impl Launcher {
     /// meet the stop (no clipping), traced as one batch: as
     /// [`Self::stop_hit`] gives each.
     fn stop_hits(&self, es: &[DVec2]) -> Vec<Option<DVec2>> {
-        let mut batch = crate::trace::RayBatch::with_capacity(es.len());
-        for &e in es {
-            match self.ray_through_at(self.field, e) {
-                Some(r) => batch.push(r),
-                None => batch.push_skipped(),
-            }
+        thread_local! {
+            /// Each thread's batch between calls: Newton's lock step calls
+            /// this a few dozen times a field with small batches, whose
+            /// eight arrays cost more to allocate than to trace.
+            static BATCH: std::cell::RefCell<crate::trace::RayBatch> =
+                std::cell::RefCell::new(crate::trace::RayBatch::with_capacity(0));
         }
-        self.to_stop.trace_soa(&mut batch);
-        (0..es.len()).map(|i| (batch.status[i] == 0).then(|| DVec2::new(batch.x[i], batch.y[i]))).collect()
+        BATCH.with_borrow_mut(|batch| {
+            batch.clear();
+            for &e in es {
+                match self.ray_through_at(self.field, e) {
+                    Some(r) => batch.push(r),
+                    None => batch.push_skipped(),
+                }
+            }
+            self.to_stop.trace_soa(batch);
+            (0..es.len()).map(|i| (batch.status[i] == 0).then(|| DVec2::new(batch.x[i], batch.y[i]))).collect()
+        })
     }
 
     /// [`Self::newton`] for many targets and starts at once, in lock step:

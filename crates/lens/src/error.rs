@@ -290,6 +290,19 @@ pub enum OpticsError {
         /// What blocked the bundle.
         why: String,
     },
+    /// A pupil grid too coarse for the wavefront: neighbouring samples
+    /// differ by more than half a wave, so maps, fits and PSFs would alias.
+    #[error("the wavefront at {field} changes by {} waves between neighbouring samples of the {grid} x {grid} pupil grid (more than half a wave, so its map, fits and PSF would alias); sample the pupil with a grid of at least {suggest}", num(*waves))]
+    PupilUndersampled {
+        /// The field, in words.
+        field: String,
+        /// The grid width used.
+        grid: usize,
+        /// The largest step between neighbouring samples, waves.
+        waves: f64,
+        /// A grid width that keeps the step under half a wave.
+        suggest: usize,
+    },
 }
 
 fn no_real_image(image_distance: f64, ffd: f64, efl: f64) -> String {

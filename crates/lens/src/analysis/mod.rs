@@ -19,5 +19,6 @@ pub mod pattern;
 pub mod quadrature;
 mod refine;
 pub mod spot;
+pub mod wave;
 
 pub use launch::{Aim, Field, Launcher, AUTO_TOLERANCE};

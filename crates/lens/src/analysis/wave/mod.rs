@@ -1,0 +1,21 @@
+//! Wave optics: the wavefront error of a field over the pupil (optical
+//! path difference to the reference sphere), its statistics and Zernike
+//! fits, built on the batch tracer's optical path lengths
+//! (docs/analyses.md, "Wavefront").
+//!
+//! - [`pupil`]: the area-weighted square grid every wave analysis samples.
+//! - [`opd`]: the wavefront of one field and wavelength ([`opd::wavefront`]).
+//! - [`stats`]: RMS and peak-to-valley to the chief ray and to the
+//!   centroid, and the Strehl ratio.
+//! - [`zernike`]: Fringe and Standard Zernike polynomials and fits.
+
+pub mod opd;
+pub mod pupil;
+pub mod stats;
+pub mod zernike;
+
+pub use opd::{wavefront, Wavefront};
+pub use stats::{stats, WavefrontStats};
+
+/// The pupil grid width the wave analyses use unless asked otherwise.
+pub const DEFAULT_GRID: usize = 64;

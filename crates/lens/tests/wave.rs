@@ -1,0 +1,134 @@
+//! Wave optics against closed forms: the optical path difference of a
+//! stigmatic surface, defocus (W020, its RMS, Strehl and Zernike terms),
+//! Maréchal's approximation, and the refusal of a grid too coarse.
+
+use lens::analysis::fan::ImagePlane;
+use lens::analysis::wave::zernike::{fit, ZernikeKind};
+use lens::analysis::wave::{stats, wavefront};
+use lens::analysis::{Aim, Field, Launcher};
+use lens::{OpticsError, Prescription};
+
+/// A refracting ellipsoid (k = -1/n^2) from air into glass of index n with
+/// its image surface at the far focus, R n / (n - 1) behind the vertex: it
+/// images the axial point at infinity perfectly (Descartes). `sd` is the
+/// stop's semi-diameter at the surface; the film `dz` mm beyond focus.
+fn ellipsoid(sd: f64, dz: f64) -> (Prescription, f64, f64) {
+    let (r, n) = (20.0, 1.7);
+    let f = r * n / (n - 1.0);
+    let json = format!(
+        r#"{{"surfaces": [{{"radius": {r}, "conic": {k}, "thickness": {t}, "ior": {n}, "semi_diameter": {sd}, "stop": true}}]}}"#,
+        k = -1.0 / (n * n),
+        t = f + dz
+    );
+    (Prescription::from_json_str(&json, "<test>").unwrap(), f, n)
+}
+
+#[test]
+fn a_stigmatic_surface_has_no_wavefront_error() {
+    for sd in [14.0, 6.0, 1.0] {
+        let (p, _, _) = ellipsoid(sd, 0.0);
+        let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+        let w = wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+        let worst = w.opd_waves.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
+        println!("semi-diameter {sd} mm: largest |W| {worst:.2e} waves over {} rays", w.opd_waves.len());
+        assert!(worst < 1e-6, "{worst}");
+        assert_eq!(w.vignetted, 0);
+        let s = stats(&w);
+        assert!((s.strehl - 1.0).abs() < 1e-9, "Strehl {}", s.strehl);
+    }
+}
+
+/// Defocus: a film dz beyond the focus F of a stigmatic system (its wave a
+/// sphere of radius R about F through the exit pupil's centre) sees, on
+/// the reference sphere of radius R + dz about its own axial point, W = n'
+/// (rho - R) / lambda at the ray of image-space angle u', with rho =
+/// sqrt((R + dz)^2 - dz^2 sin^2 u') - dz cos u' its distance from F there (the rim's
+/// wave is ahead of the reference: W > 0 for dz > 0): for a slow cone W =
+/// W020 rho^2 with W020 = n' dz (1 - cos u'_m), RMS to
+/// centroid |W020| / sqrt(12), Strehl [sin(pi W020) / (pi W020)]^2, and the
+/// Zernike defocus terms W020 / 2 (Fringe) and W020 / (2 sqrt 3)
+/// (Standard).
+#[test]
+fn defocus_gives_w020_its_rms_strehl_and_zernike_terms() {
+    let sd = 1.0;
+    for dz in [0.05, 0.2, -0.3] {
+        let (p, f, n) = ellipsoid(sd, dz);
+        let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+        let w = wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+        // the marginal ray's image-space angle: from the rim of the
+        // ellipsoid to the focus
+        let (r, k) = (20.0f64, -1.0 / (n * n));
+        let sag = |h: f64| h * h / (r * (1.0 + (1.0 - (1.0 + k) * h * h / (r * r)).sqrt()));
+        let angle = |h: f64| (h / (f - sag(h))).atan();
+        let lambda = p.wavelength_nm() * 1e-6;
+        let exact = |h: f64| {
+            let u = angle(h);
+            let rho = -dz * u.cos() + ((f + dz).powi(2) - (dz * u.sin()).powi(2)).sqrt();
+            n * (rho - f) / lambda
+        };
+        let w020 = exact(sd);
+        // the sample nearest the rim, against the exact form there
+        let (rim, rim_w) = w.passing().map(|(c, _, v)| (c.0.hypot(c.1), v)).fold((0.0, 0.0), |best, (rho, v)| {
+            if rho > best.0 {
+                (rho, v)
+            } else {
+                best
+            }
+        });
+        let want_rim = exact(rim * sd);
+        // every sample against the exact form
+        let worst = w.passing().map(|(c, _, v)| (v - exact(c.0.hypot(c.1) * sd)).abs()).fold(0.0, f64::max);
+        assert!(worst < 1e-7, "largest departure from the exact W {worst:e} waves");
+        let s = stats(&w);
+        let strehl = ((std::f64::consts::PI * w020).sin() / (std::f64::consts::PI * w020)).powi(2);
+        let fringe = fit(&w, ZernikeKind::Fringe, 37).unwrap();
+        let standard = fit(&w, ZernikeKind::Standard, 37).unwrap();
+        println!(
+            "dz {dz}: W020 {w020:.6} waves; rim W {rim_w:.6} (exact {want_rim:.6}); RMS to centroid {:.6} (W020/sqrt 12 = {:.6}); \
+             Strehl {:.6} (closed form {strehl:.6}); Fringe Z4 {:.6} (W020/2 = {:.6}); Standard Z4 {:.6} (W020/(2 sqrt 3) = {:.6}); \
+             RMS from Standard {:.6} vs map {:.6}",
+            s.rms_to_centroid,
+            w020.abs() / 12f64.sqrt(),
+            s.strehl,
+            fringe.coefficients[3],
+            w020 / 2.0,
+            standard.coefficients[3],
+            w020 / (2.0 * 3f64.sqrt()),
+            standard.rms_without_piston().unwrap(),
+            s.rms_to_chief
+        );
+        assert!((rim_w - want_rim).abs() < 1e-6 * want_rim.abs().max(1.0), "rim");
+        assert!((s.rms_to_centroid - w020.abs() / 12f64.sqrt()).abs() < 2e-3 * w020.abs());
+        assert!((s.rms_to_chief - s.rms_to_centroid).abs() < 1e-9 * w020.abs(), "no tilt on axis");
+        assert!((s.strehl - strehl).abs() < 1e-3, "Strehl {} against {strehl}", s.strehl);
+        assert!((fringe.coefficients[3] - w020 / 2.0).abs() < 1e-3 * w020.abs());
+        assert!((standard.coefficients[3] - w020 / (2.0 * 3f64.sqrt())).abs() < 1e-3 * w020.abs());
+        assert!((standard.rms_without_piston().unwrap() - s.rms_to_chief).abs() < 1e-3 * s.rms_to_chief);
+    }
+}
+
+/// Maréchal: for small aberrations the Strehl ratio is about exp(-(2 pi
+/// sigma)^2), sigma the RMS wavefront error to centroid.
+#[test]
+fn marechal_holds_for_small_defocus() {
+    for dz in [0.01, 0.03, 0.06] {
+        let (p, _, _) = ellipsoid(1.0, dz);
+        let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+        let s = stats(&wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap());
+        let marechal = (-(std::f64::consts::TAU * s.rms_to_centroid).powi(2)).exp();
+        println!("dz {dz}: sigma {:.4} waves, Strehl {:.5}, Maréchal {marechal:.5}", s.rms_to_centroid, s.strehl);
+        assert!(s.rms_to_centroid < 0.07);
+        assert!((s.strehl - marechal).abs() < 0.01 * s.strehl);
+    }
+}
+
+#[test]
+fn a_grid_too_coarse_for_the_wavefront_is_refused_with_one_that_is_not() {
+    let (p, _, _) = ellipsoid(6.0, 0.5);
+    let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+    let err = wavefront(&p, &p, &launcher, 16, ImagePlane::ImageSurface).unwrap_err();
+    println!("{err}");
+    let OpticsError::PupilUndersampled { suggest, .. } = err else { panic!("{err:?}") };
+    assert!(err.to_string().contains("half a wave"));
+    wavefront(&p, &p, &launcher, suggest, ImagePlane::ImageSurface).expect("the suggested grid samples it");
+}

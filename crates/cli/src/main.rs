@@ -37,6 +37,7 @@ mod spot;
 mod study;
 mod validate;
 mod warnings;
+mod wavefront;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -62,6 +63,8 @@ enum Command {
     Fan(fan::Args),
     /// Spot diagram statistics at a field.
     Spot(spot::Args),
+    /// Wavefront error at a field: OPD to the exit pupil's reference sphere, RMS, P-V, Strehl, Zernike fits.
+    Wavefront(wavefront::Args),
     /// Real circles of confusion beside the thin-lens formula.
     Coc(coc::Args),
     /// Distortion, field curvature, spherical aberration, vignetting.
@@ -92,6 +95,7 @@ fn main() -> ExitCode {
         Command::Convert(a) => convert::run(a),
         Command::Fan(a) => fan::run(a),
         Command::Spot(a) => spot::run(a),
+        Command::Wavefront(a) => wavefront::run(a),
         Command::Coc(a) => coc::run(a),
         Command::Field(a) => field::run(a),
         Command::Chromatic(a) => chromatic::run(a),

@@ -476,3 +476,33 @@ fn study_takes_render_flags_from_any_folder() {
     let (code, _, err) = lens(&["study", study.to_str().unwrap(), "-o", png.to_str().unwrap(), "--threads", "0"]);
     assert!(code == 1 && err.contains("--threads 0"), "{err}");
 }
+
+#[test]
+fn wavefront_json_has_the_contract_keys_and_refuses_a_coarse_grid() {
+    let (code, out, err) = lens(&["wavefront", "lens-data/double-gauss-50mm.json", "--field-deg", "5", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    for k in [
+        "rms_waves",
+        "pv_waves",
+        "rms_centroid_waves",
+        "pv_centroid_waves",
+        "strehl",
+        "exit_pupil_mm",
+        "reference_radius_mm",
+    ] {
+        assert!(v[k].as_f64().is_some_and(f64::is_finite), "{k} in {v}");
+    }
+    assert_eq!(v["zernike_fringe"].as_array().unwrap().len(), 37);
+    assert_eq!(v["zernike_standard"].as_array().unwrap().len(), 37);
+    assert!(v["zernike_standard_order"].as_str().unwrap().contains("Noll"));
+    // the default grid grows where the wavefront needs it
+    assert!(v["pupil_samples"].as_u64().unwrap() >= 64);
+    let (rms, centroid) = (v["rms_waves"].as_f64().unwrap(), v["rms_centroid_waves"].as_f64().unwrap());
+    assert!(centroid <= rms && rms > 0.1 && v["strehl"].as_f64().unwrap() < 1.0);
+    // a grid asked for that is too coarse: refused, with one that is not
+    let (code, _, err) =
+        lens(&["wavefront", "lens-data/plano-convex-singlet.json", "--grid", "32", "--field-deg", "0"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("half a wave") && err.contains("grid of at least"), "{err}");
+}

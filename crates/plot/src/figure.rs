@@ -66,6 +66,9 @@ pub struct Panel {
     pub circles: Vec<Circle>,
     /// Filled polygons (data units) drawn under everything else: outline, fill.
     pub polygons: Vec<(Vec<(f64, f64)>, String)>,
+    /// Filled rectangles without outline (data units `[x0, y0, x1, y1]`,
+    /// fill), drawn first: the cells of a map.
+    pub cells: Vec<([f64; 4], String)>,
     /// Same scale on both axes.
     pub equal_aspect: bool,
     /// Fixed x range (else from the data).
@@ -233,6 +236,10 @@ fn data_range(panel: &Panel) -> ((f64, f64), (f64, f64)) {
             add(x, y);
         }
     }
+    for (r, _) in &panel.cells {
+        add(r[0], r[1]);
+        add(r[2], r[3]);
+    }
     for c in &panel.circles {
         add(c.center.0 - c.radius, c.center.1 - c.radius);
         add(c.center.0 + c.radius, c.center.1 + c.radius);
@@ -330,6 +337,19 @@ pub fn panel_svg(s: &mut String, panel: &Panel, x: f64, y: f64, w: f64, h: f64) 
         s,
         r#"<clipPath id="{clip}"><rect x="{left}" y="{top}" width="{width}" height="{height}"/></clipPath><g clip-path="url(#{clip})">"#
     );
+    for (r, fill) in &panel.cells {
+        let (ax, ay) = m.px(r[0], r[1]);
+        let (bx, by) = m.px(r[2], r[3]);
+        // a hair wider than the cell, so neighbours leave no seam
+        let _ = write!(
+            s,
+            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="{fill}"/>"##,
+            ax.min(bx),
+            ay.min(by),
+            (bx - ax).abs() + 0.4,
+            (by - ay).abs() + 0.4
+        );
+    }
     for (poly, fill) in &panel.polygons {
         let pts: Vec<String> = poly
             .iter()

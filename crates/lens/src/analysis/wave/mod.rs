@@ -14,8 +14,12 @@ pub mod pupil;
 pub mod stats;
 pub mod zernike;
 
-pub use opd::{wavefront, Wavefront};
+pub use opd::{wavefront, wavefront_auto, Wavefront};
 pub use stats::{stats, WavefrontStats};
 
-/// The pupil grid width the wave analyses use unless asked otherwise.
+/// The pupil grid width the wave analyses use unless asked otherwise (or
+/// the wavefront needs more: [`opd::wavefront_auto`]).
 pub const DEFAULT_GRID: usize = 64;
+
+/// The finest grid [`opd::wavefront_auto`] goes to on its own.
+pub const MAX_AUTO_GRID: usize = 1024;

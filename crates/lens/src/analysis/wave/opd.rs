@@ -209,6 +209,26 @@ pub fn wavefront(
     Ok(w)
 }
 
+/// [`wavefront`] on the default grid ([`super::DEFAULT_GRID`]), or, where
+/// the wavefront is too steep for it, on the grid its refusal suggests (up
+/// to [`super::MAX_AUTO_GRID`] samples across; beyond, the refusal).
+pub fn wavefront_auto(
+    p: &Prescription,
+    traced: &Prescription,
+    launcher: &Launcher,
+    plane: ImagePlane,
+) -> Result<Wavefront, OpticsError> {
+    let mut n = super::DEFAULT_GRID;
+    loop {
+        match wavefront(p, traced, launcher, n, plane) {
+            Err(OpticsError::PupilUndersampled { suggest, .. }) if suggest > n && suggest <= super::MAX_AUTO_GRID => {
+                n = suggest
+            }
+            r => return r,
+        }
+    }
+}
+
 /// The most samples across the pupil.
 const MAX_GRID: usize = 4096;
 

@@ -63,6 +63,15 @@ impl Tracer {
         Self::forward_steps(p, 0..p.surfaces().len(), film_distance)
     }
 
+    /// [`Self::forward_to_film`] with every clear aperture, the stop's too,
+    /// left open: where the rays of the whole pupil would go (the
+    /// pupil's extent in image space, whatever vignettes it).
+    pub fn forward_to_film_open(p: &Prescription, film_distance: f64) -> Self {
+        let t = Self::forward_to_film(p, film_distance);
+        let n = t.steps.len();
+        t.unclipped(0..n)
+    }
+
     /// From object space through surfaces `range.start` to `range.end - 1`
     /// only (0-based; clamped to the prescription), and on to the film at
     /// the prescription's film distance when the range ends at the last

@@ -83,6 +83,156 @@ impl Wavefront {
     }
 }
 
+/// What turns normalised pupil points of one field into their wavefront
+/// error: the launcher, the tracer to the image plane, the chief ray's path
+/// to its reference sphere (made once, then asked for any points).
+pub struct Probe<'a> {
+    launcher: &'a Launcher,
+    tracer: Tracer,
+    vignetting: crate::model::spec::VignettingFactors,
+    chief: Hit,
+    s_chief: f64,
+    radius: f64,
+    n_obj: f64,
+    n_img: f64,
+    lambda: f64,
+    /// z of the image plane, mm from the first vertex.
+    pub image_z: f64,
+    /// The paraxial exit pupil (`None`: telecentric image space).
+    pub exit_pupil: Option<Pupil>,
+}
+
+impl<'a> Probe<'a> {
+    /// The probe of `launcher`'s field traced through `traced` (the
+    /// prescription at the wavelength analysed; `p` at its primary
+    /// wavelength gives the image plane, the exit pupil and the design's
+    /// vignetting factors) to `plane`. Errors when the chief ray is lost.
+    pub fn new(
+        p: &Prescription,
+        traced: &Prescription,
+        launcher: &'a Launcher,
+        plane: ImagePlane,
+    ) -> Result<Self, OpticsError> {
+        let field = launcher.field();
+        let image_z = plane.z(p, launcher)?;
+        let tracer = Tracer::forward_to_film(traced, image_z - traced.last_vertex_z());
+        let vignetting = p.vignetting_at(launcher.field_angle_deg());
+        let chief = trace_chunk(launcher, &tracer, &[(0.0, 0.0)])?[0].ok_or_else(|| OpticsError::ChiefRayLost {
+            field: field.describe(),
+            why: "the lens blocks it, or real aiming found no ray through the stop's centre".into(),
+        })?;
+        let exit_pupil = launcher.first_order().exit_pupil;
+        let c = chief.at;
+        // the reference sphere: centre at the chief ray's image point,
+        // through the paraxial exit pupil's centre (or, telecentric, back
+        // along the chief ray to the last vertex's plane)
+        let radius = match exit_pupil {
+            Some(xp) => {
+                let r = (c - DVec3::new(0.0, 0.0, xp.z)).length();
+                if xp.z <= c.z {
+                    r
+                } else {
+                    -r
+                }
+            }
+            None => (c.z - traced.last_vertex_z()) / chief.direction.z,
+        };
+        if !(radius.is_finite() && radius != 0.0) {
+            return Err(OpticsError::BadInput {
+                name: "reference sphere radius",
+                value: radius,
+                expected: "an exit pupil away from the image plane",
+            });
+        }
+        let mut probe = Probe {
+            launcher,
+            tracer,
+            vignetting,
+            chief,
+            s_chief: 0.0,
+            radius,
+            n_obj: traced.index_before(0),
+            n_img: traced.image_index(),
+            lambda: traced.wavelength_nm() * 1e-6,
+            image_z,
+            exit_pupil,
+        };
+        probe.s_chief = probe.path(&chief).map(|(s, _)| s).ok_or_else(|| OpticsError::ChiefRayLost {
+            field: field.describe(),
+            why: "it does not meet its own reference sphere".into(),
+        })?;
+        Ok(probe)
+    }
+
+    /// The optical path of a ray to the reference sphere and where it
+    /// meets it; for an object at infinity, from the plane wave through
+    /// the chief ray's start. `None` where the ray misses the sphere.
+    fn path(&self, e: &Hit) -> Option<(f64, DVec3)> {
+        let q = e.at - self.chief.at;
+        let b = q.dot(e.direction);
+        let disc = b * b - (q.length_squared() - self.radius * self.radius);
+        if disc.is_nan() || disc < 0.0 {
+            return None;
+        }
+        let t = if self.radius > 0.0 { b + disc.sqrt() } else { b - disc.sqrt() };
+        let launch = match self.launcher.field() {
+            Field::Angle(_) => self.n_obj * e.launch_direction.dot(e.launch - self.chief.launch),
+            Field::Height { .. } => 0.0,
+        };
+        Some((e.opl - self.n_img * t + launch, e.at - e.direction * t))
+    }
+
+    /// W in waves, and where the ray meets the reference sphere, at each
+    /// normalised pupil point (the design's vignetting factors applied
+    /// before launching); `None` where the ray does not reach the image.
+    /// Traced in chunks on all cores.
+    pub fn at(&self, points: &[(f64, f64)]) -> Result<Vec<Option<(f64, DVec3)>>, OpticsError> {
+        let launched: Vec<(f64, f64)> = points.iter().map(|&(x, y)| self.vignetting.apply(x, y)).collect();
+        let ends: Vec<Result<Vec<End>, OpticsError>> =
+            launched.par_chunks(CHUNK).map(|chunk| trace_chunk(self.launcher, &self.tracer, chunk)).collect();
+        let mut out = Vec::with_capacity(points.len());
+        for e in ends {
+            out.extend(
+                e?.iter().map(|e| {
+                    e.as_ref().and_then(|e| self.path(e)).map(|(s, at)| ((self.s_chief - s) / self.lambda, at))
+                }),
+            );
+        }
+        Ok(out)
+    }
+
+    /// The chief ray's image point (global frame, mm).
+    pub fn chief_image(&self) -> DVec3 {
+        self.chief.at
+    }
+
+    /// The chief ray's image-space direction (unit).
+    pub fn chief_direction(&self) -> DVec3 {
+        self.chief.direction
+    }
+
+    /// The reference sphere's radius, mm (negative: the exit pupil lies
+    /// behind the image plane).
+    pub fn reference_radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// The index of image space.
+    pub fn image_index(&self) -> f64 {
+        self.n_img
+    }
+
+    /// The wavelength, mm.
+    pub fn wavelength_mm(&self) -> f64 {
+        self.lambda
+    }
+
+    /// The field.
+    pub fn field(&self) -> Field {
+        self.launcher.field()
+    }
+}
+
 /// The wavefront of `launcher`'s field over an `n` x `n` pupil grid,
 /// traced through `traced` (the prescription at the wavelength analysed;
 /// `p` at its primary wavelength gives the image plane, the exit pupil and
@@ -105,85 +255,12 @@ pub fn wavefront(
             expected: "a grid of 2 to 4096 samples across the pupil",
         });
     }
+    let probe = Probe::new(p, traced, launcher, plane)?;
     let field = launcher.field();
-    let image_z = plane.z(p, launcher)?;
-    let tracer = Tracer::forward_to_film(traced, image_z - traced.last_vertex_z());
     let grid = PupilGrid::new(n);
-    let vig = p.vignetting_at(launcher.field_angle_deg());
-    // the chief ray first, then every cell's, launched and traced in chunks
-    let points: Vec<(f64, f64)> =
-        std::iter::once((0.0, 0.0)).chain(grid.cells.iter().map(|c| vig.apply(c.centre.0, c.centre.1))).collect();
-    let ends: Vec<Result<Vec<End>, OpticsError>> =
-        points.par_chunks(CHUNK).map(|chunk| trace_chunk(launcher, &tracer, chunk)).collect();
-    let mut all = Vec::with_capacity(points.len());
-    for e in ends {
-        all.extend(e?);
-    }
-    let chief = all[0].ok_or_else(|| OpticsError::ChiefRayLost {
-        field: field.describe(),
-        why: "the lens blocks it, or real aiming found no ray through the stop's centre".into(),
-    })?;
-    let first = launcher.first_order();
-    let exit_pupil = first.exit_pupil;
-    let n_img = traced.image_index();
-    let n_obj = traced.index_before(0);
-    let c = chief.at;
-    // the reference sphere: centre at the chief ray's image point, through
-    // the paraxial exit pupil's centre (or, telecentric, back along the
-    // chief ray to the last vertex's plane)
-    let radius = match exit_pupil {
-        Some(xp) => {
-            let r = (c - DVec3::new(0.0, 0.0, xp.z)).length();
-            if xp.z <= c.z {
-                r
-            } else {
-                -r
-            }
-        }
-        None => (c.z - traced.last_vertex_z()) / chief.direction.z,
-    };
-    if !(radius.is_finite() && radius != 0.0) {
-        return Err(OpticsError::BadInput {
-            name: "reference sphere radius",
-            value: radius,
-            expected: "an exit pupil away from the image plane",
-        });
-    }
-    // the path to the sphere; for an object at infinity, from the plane
-    // wave through the chief ray's start
-    let path = |e: &Hit| -> Option<(f64, DVec3)> {
-        let q = e.at - c;
-        let b = q.dot(e.direction);
-        let disc = b * b - (q.length_squared() - radius * radius);
-        if disc.is_nan() || disc < 0.0 {
-            return None;
-        }
-        let t = if radius > 0.0 { b + disc.sqrt() } else { b - disc.sqrt() };
-        let launch = match field {
-            Field::Angle(_) => n_obj * e.launch_direction.dot(e.launch - chief.launch),
-            Field::Height { .. } => 0.0,
-        };
-        Some((e.opl - n_img * t + launch, e.at - e.direction * t))
-    };
-    let (s_chief, _) = path(&chief).ok_or_else(|| OpticsError::ChiefRayLost {
-        field: field.describe(),
-        why: "it does not meet its own reference sphere".into(),
-    })?;
-    let lambda = traced.wavelength_nm() * 1e-6;
-    let mut opd_waves = Vec::with_capacity(grid.cells.len());
-    let mut sphere_points = Vec::with_capacity(grid.cells.len());
-    for e in &all[1..] {
-        match e.as_ref().and_then(&path) {
-            Some((s, at)) => {
-                opd_waves.push(Some((s_chief - s) / lambda));
-                sphere_points.push(Some(at));
-            }
-            None => {
-                opd_waves.push(None);
-                sphere_points.push(None);
-            }
-        }
-    }
+    let at = probe.at(&grid.points())?;
+    let opd_waves: Vec<Option<f64>> = at.iter().map(|a| a.map(|a| a.0)).collect();
+    let sphere_points: Vec<Option<DVec3>> = at.iter().map(|a| a.map(|a| a.1)).collect();
     let vignetted = opd_waves.iter().filter(|w| w.is_none()).count();
     if vignetted == opd_waves.len() {
         return Err(OpticsError::NoRealRays {
@@ -194,15 +271,15 @@ pub fn wavefront(
         field,
         wavelength_nm: traced.wavelength_nm(),
         plane,
-        image_z,
+        image_z: probe.image_z,
         grid,
         opd_waves,
         sphere_points,
-        chief_image: c,
-        chief_direction: chief.direction,
-        reference_radius: radius,
-        exit_pupil,
-        image_index: n_img,
+        chief_image: probe.chief_image(),
+        chief_direction: probe.chief_direction(),
+        reference_radius: probe.reference_radius(),
+        exit_pupil: probe.exit_pupil,
+        image_index: probe.image_index(),
         vignetted,
     };
     check_sampling(&w)?;

@@ -132,3 +132,102 @@ fn a_grid_too_coarse_for_the_wavefront_is_refused_with_one_that_is_not() {
     assert!(err.to_string().contains("half a wave"));
     wavefront(&p, &p, &launcher, suggest, ImagePlane::ImageSurface).expect("the suggested grid samples it");
 }
+
+/// The ellipsoid's working f-number from its real marginal ray: the cutoff
+/// 1 / (lambda N_w) = 2 n' sin(u') / lambda, cycles/mm.
+fn ellipsoid_cutoff(sd: f64, f: f64, n: f64, lambda: f64) -> f64 {
+    let (r, k) = (20.0f64, -1.0 / (n * n));
+    let sag = sd * sd / (r * (1.0 + (1.0 - (1.0 + k) * sd * sd / (r * r)).sqrt()));
+    let sin_u = sd / (sd * sd + (f - sag).powi(2)).sqrt();
+    2.0 * n * sin_u / lambda
+}
+
+#[test]
+fn an_aberration_free_pupil_has_the_diffraction_limited_mtf() {
+    use lens::analysis::wave::mtf::{diffraction_limited, mtf};
+    for sd in [1.0, 6.0] {
+        let (p, f, n) = ellipsoid(sd, 0.0);
+        let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+        let lambda = p.wavelength_nm() * 1e-6;
+        let cutoff = ellipsoid_cutoff(sd, f, n, lambda);
+        let freqs: Vec<f64> = [0.02, 0.1, 0.25, 0.5, 0.75, 0.9, 0.99].iter().map(|x| x * cutoff).collect();
+        let m = mtf(&p, &p, &launcher, ImagePlane::ImageSurface, &freqs).unwrap();
+        println!(
+            "semi-diameter {sd}: cutoff T {:.6} S {:.6} (1/(lambda N_w) = {cutoff:.6}) cycles/mm, {} nodes",
+            m.cutoff_tangential_per_mm, m.cutoff_sagittal_per_mm, m.nodes
+        );
+        assert!((m.cutoff_tangential_per_mm - cutoff).abs() < 1e-9 * cutoff);
+        assert!((m.cutoff_sagittal_per_mm - cutoff).abs() < 1e-9 * cutoff);
+        for (i, nu) in freqs.iter().enumerate() {
+            let want = diffraction_limited(nu / cutoff);
+            println!(
+                "  {:.4} of the cutoff: T {:.8} S {:.8}, closed form {want:.8}",
+                nu / cutoff,
+                m.tangential[i],
+                m.sagittal[i]
+            );
+            assert!((m.tangential[i] - want).abs() < 2e-4 && (m.sagittal[i] - want).abs() < 2e-4);
+            assert!((m.diffraction_limit_tangential[i] - want).abs() < 2e-4);
+        }
+    }
+}
+
+/// Defocus W020 rho^2 turns the pupil autocorrelation's phase linear along
+/// the shift: OTF(s) = (1/pi) integral over the overlap of exp(4 pi i W020
+/// s a) (a along the shift), each chord integrated in closed form, sin(k h)
+/// / k, and the chords summed finely: Hopkins' defocused MTF.
+#[test]
+fn defocus_gives_the_defocused_autocorrelation_mtf() {
+    use lens::analysis::wave::mtf::mtf;
+    let sd = 1.0;
+    for dz in [0.3, 0.8] {
+        let (p, f, n) = ellipsoid(sd, dz);
+        let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+        let lambda = p.wavelength_nm() * 1e-6;
+        let cutoff = ellipsoid_cutoff(sd, f, n, lambda);
+        let w = wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+        // W020 from the fitted Fringe defocus and spherical terms: the
+        // rho^2 coefficient, 2 Z4 - 6 Z9
+        let z = fit(&w, ZernikeKind::Fringe, 37).unwrap().coefficients;
+        let w020 = 2.0 * z[3] - 6.0 * z[8];
+        let hopkins = |s: f64| {
+            let c = (1.0 - 0.25 * s * s).sqrt();
+            let k = 4.0 * std::f64::consts::PI * w020 * s;
+            let steps = 200_000;
+            let db = 2.0 * c / steps as f64;
+            (0..steps)
+                .map(|i| {
+                    let b = -c + (i as f64 + 0.5) * db;
+                    let h = (1.0 - b * b).sqrt() - 0.5 * s;
+                    (if k.abs() < 1e-12 { 2.0 * h } else { 2.0 * (k * h).sin() / k }) * db
+                })
+                .sum::<f64>()
+                / std::f64::consts::PI
+        };
+        let freqs: Vec<f64> = [0.05, 0.1, 0.2, 0.35, 0.5, 0.7].iter().map(|x| x * cutoff).collect();
+        let m = mtf(&p, &p, &launcher, ImagePlane::ImageSurface, &freqs).unwrap();
+        println!("dz {dz}: W020 {w020:.5} waves, {} nodes", m.nodes);
+        for (i, nu) in freqs.iter().enumerate() {
+            let want = hopkins(2.0 * nu / cutoff).abs();
+            println!(
+                "  {:.2} of the cutoff: T {:.6} S {:.6}, Hopkins {want:.6}",
+                nu / cutoff,
+                m.tangential[i],
+                m.sagittal[i]
+            );
+            assert!((m.tangential[i] - want).abs() < 1e-3 && (m.sagittal[i] - want).abs() < 1e-3);
+        }
+    }
+}
+
+#[test]
+fn frequencies_outside_zero_to_the_cutoff_are_refused() {
+    use lens::analysis::wave::mtf::mtf;
+    let (p, _, _) = ellipsoid(1.0, 0.0);
+    let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+    for f in [0.0, -5.0, f64::NAN, 1e6] {
+        let e = mtf(&p, &p, &launcher, ImagePlane::ImageSurface, &[f]).unwrap_err().to_string();
+        println!("{f}: {e}");
+        assert!(e.contains("frequency"), "{e}");
+    }
+}

@@ -31,6 +31,7 @@ mod focus;
 mod glass;
 mod info;
 mod layout;
+mod mtf;
 mod outputs;
 mod render;
 mod spot;
@@ -65,6 +66,8 @@ enum Command {
     Spot(spot::Args),
     /// Wavefront error at a field: OPD to the exit pupil's reference sphere, RMS, P-V, Strehl, Zernike fits.
     Wavefront(wavefront::Args),
+    /// Diffraction MTF at a field: at chosen frequencies, against frequency, image height or focus.
+    Mtf(mtf::Args),
     /// Real circles of confusion beside the thin-lens formula.
     Coc(coc::Args),
     /// Distortion, field curvature, spherical aberration, vignetting.
@@ -96,6 +99,7 @@ fn main() -> ExitCode {
         Command::Fan(a) => fan::run(a),
         Command::Spot(a) => spot::run(a),
         Command::Wavefront(a) => wavefront::run(a),
+        Command::Mtf(a) => mtf::run(a),
         Command::Coc(a) => coc::run(a),
         Command::Field(a) => field::run(a),
         Command::Chromatic(a) => chromatic::run(a),

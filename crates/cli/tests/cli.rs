@@ -506,3 +506,34 @@ fn wavefront_json_has_the_contract_keys_and_refuses_a_coarse_grid() {
     assert_eq!(code, 1);
     assert!(err.contains("half a wave") && err.contains("grid of at least"), "{err}");
 }
+
+#[test]
+fn mtf_json_has_the_contract_keys_and_refuses_bad_frequencies() {
+    let (code, out, err) =
+        lens(&["mtf", "lens-data/double-gauss-50mm.json", "--field-deg", "10", "--frequencies", "10,20,40", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert_eq!(v["frequencies_per_mm"].as_array().unwrap().len(), 3);
+    for k in ["tangential", "sagittal"] {
+        let m: Vec<f64> = v[k].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        assert_eq!(m.len(), 3);
+        assert!(m.iter().all(|x| (0.0..=1.0).contains(x)), "{k}: {m:?}");
+        let limit: Vec<f64> =
+            v["diffraction_limit"][k].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        assert!(m.iter().zip(&limit).all(|(a, b)| a <= &(b + 1e-9)), "{k} above its diffraction limit");
+    }
+    for k in ["cutoff_per_mm", "cutoff_tangential_per_mm", "cutoff_sagittal_per_mm"] {
+        assert!(v[k].as_f64().unwrap() > 500.0, "{k}");
+    }
+    for bad in ["0", "-10", "5000"] {
+        let (code, _, err) = lens(&["mtf", "lens-data/double-gauss-50mm.json", "--frequencies", bad]);
+        assert_eq!(code, 1, "{bad}");
+        assert!(err.contains("frequency"), "{bad}: {err}");
+    }
+    let (code, out, err) =
+        lens(&["mtf", "lens-data/double-gauss-50mm.json", "--vs-field", "--frequencies", "10,30", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert_eq!(v["fields_deg"].as_array().unwrap().len(), 11);
+    assert_eq!(v["tangential"].as_array().unwrap().len(), 2);
+}

@@ -1,6 +1,6 @@
 //! Wave optics pictures: the wavefront map over the pupil.
 
-use crate::figure::{Figure, Panel, Series, Style};
+use crate::figure::{Figure, Panel, Series, Style, PALETTE};
 use lens::analysis::wave::{Wavefront, WavefrontStats};
 
 /// A diverging colour for `t` in [-1, 1]: blue (-1) through white (0) to
@@ -54,4 +54,37 @@ pub fn wavefront_map(w: &Wavefront, s: &WavefrontStats, name: &str) -> String {
     };
     let title = format!("Wavefront: {name}, {field}, {} nm, {} x {} pupil grid", w.wavelength_nm, w.grid.n, w.grid.n);
     Figure { title, panels: vec![map], columns: 1, panel_size: (620.0, 640.0) }.to_svg()
+}
+
+/// One MTF curve: a label and (frequency or field, MTF) points.
+pub struct MtfCurve {
+    /// Legend text.
+    pub label: String,
+    /// The points.
+    pub points: Vec<(f64, f64)>,
+    /// Colour index into the palette.
+    pub colour: usize,
+    /// Dashed (sagittal, or the diffraction limit) or solid.
+    pub dashed: bool,
+}
+
+/// A chart of MTF curves against `x_label` (cycles/mm, or image height),
+/// MTF from 0 to 1.
+pub fn mtf_chart(title: &str, panel_title: &str, x_label: &str, curves: &[MtfCurve]) -> String {
+    let series = curves
+        .iter()
+        .map(|c| {
+            let colour = if c.colour == usize::MAX { "#222" } else { PALETTE[c.colour % PALETTE.len()] };
+            Series::new(c.label.clone(), c.points.clone(), colour, if c.dashed { Style::Dashed } else { Style::Line })
+        })
+        .collect();
+    let panel = Panel {
+        title: panel_title.into(),
+        x_label: x_label.into(),
+        y_label: "MTF".into(),
+        series,
+        y_range: Some((0.0, 1.02)),
+        ..Panel::default()
+    };
+    Figure { title: title.into(), panels: vec![panel], columns: 1, panel_size: (720.0, 520.0) }.to_svg()
 }

@@ -201,6 +201,26 @@ impl<'a> Probe<'a> {
         Ok(out)
     }
 
+    /// W in waves at each normalised pupil point, `None` where the ray does
+    /// not reach the image ([`Self::at`] without the sphere points).
+    pub fn opd(&self, points: &[(f64, f64)]) -> Result<Vec<Option<f64>>, OpticsError> {
+        let launched: Vec<(f64, f64)> = points.iter().map(|&(x, y)| self.vignetting.apply(x, y)).collect();
+        let ends: Vec<Result<Vec<Option<f64>>, OpticsError>> = launched
+            .par_chunks(CHUNK)
+            .map(|chunk| {
+                Ok(trace_chunk(self.launcher, &self.tracer, chunk)?
+                    .iter()
+                    .map(|e| e.as_ref().and_then(|e| self.path(e)).map(|(s, _)| (self.s_chief - s) / self.lambda))
+                    .collect())
+            })
+            .collect();
+        let mut out = Vec::with_capacity(points.len());
+        for e in ends {
+            out.extend(e?);
+        }
+        Ok(out)
+    }
+
     /// The chief ray's image point (global frame, mm).
     pub fn chief_image(&self) -> DVec3 {
         self.chief.at

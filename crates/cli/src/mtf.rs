@@ -1,0 +1,280 @@
+//! `lens mtf`: the diffraction MTF of a field at chosen frequencies, against
+//! frequency, against image height (`--vs-field`) or through focus
+//! (`--through-focus`).
+
+use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
+use crate::{print_json, CmdResult};
+use lens::analysis::fan::ImagePlane;
+use lens::analysis::wave::mtf::{cutoffs, mtf, Mtf};
+use lens::analysis::{Field, Launcher};
+use lens::paraxial::FirstOrder;
+use lens::Prescription;
+use plot::wave::{mtf_chart, MtfCurve};
+use serde_json::json;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    lens: LensArgs,
+    #[command(flatten)]
+    field: FieldArgs,
+    #[command(flatten)]
+    aim: AimArgs,
+    #[command(flatten)]
+    plane: PlaneArgs,
+    #[command(flatten)]
+    wavelength: WavelengthArgs,
+    /// Frequencies, cycles/mm on the image plane (comma-separated; each
+    /// above 0 and below the cutoff).
+    #[arg(long, value_name = "C/MM,C/MM", value_parser = parse_list, default_value = "10,20,40", allow_hyphen_values = true)]
+    frequencies: std::vec::Vec<f64>,
+    /// The MTF at --frequencies against image height: tangential and
+    /// sagittal at each of --fields.
+    #[arg(long)]
+    vs_field: bool,
+    /// Field angles for --vs-field, degrees (default: 11 from 0 to the
+    /// prescription's largest field, or to 20 degrees).
+    #[arg(long, value_name = "DEG,DEG", value_parser = parse_list)]
+    fields: Option<std::vec::Vec<f64>>,
+    /// The MTF at --frequencies through focus: the image plane moved from
+    /// -MM to +MM in 21 steps.
+    #[arg(long, value_name = "MM")]
+    through_focus: Option<f64>,
+    #[command(flatten)]
+    out: JsonArgs,
+    #[command(flatten)]
+    plot: PlotArgs,
+}
+
+/// What every MTF of the command shares.
+struct Setup<'a> {
+    p: &'a Prescription,
+    traced: &'a Prescription,
+    first: FirstOrder,
+    aim: lens::analysis::Aim,
+}
+
+impl Setup<'_> {
+    fn launcher(&self, deg: f64) -> Result<Launcher, lens::OpticsError> {
+        Launcher::with_first(self.p, &self.first, Field::at_angle(self.p, &self.first, deg), self.aim)
+    }
+
+    fn mtf(&self, deg: f64, plane: ImagePlane, freqs: &[f64]) -> Result<Mtf, lens::OpticsError> {
+        mtf(self.p, self.traced, &self.launcher(deg)?, plane, freqs)
+    }
+}
+
+pub fn run(args: Args) -> CmdResult {
+    args.lens.check_plot(args.plot.plot.as_deref())?;
+    let plane = args.plane.plane()?;
+    let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
+    let field_deg = args.field.field_deg;
+    crate::args::check_fields("--field-deg", &[field_deg])?;
+    if args.frequencies.is_empty() {
+        return Err("--frequencies: give at least one frequency in cycles/mm (e.g. 10,20,40)".into());
+    }
+    let s = Setup { p: &p, traced: &traced, first: FirstOrder::of(&p)?, aim: args.aim.aim() };
+    let name = args.lens.name(&p);
+    // the on-axis cutoff, 1 / (lambda N_w) from the real marginal ray
+    let axis = s.launcher(0.0)?;
+    let axis_cutoff = cutoffs(&p, &traced, &axis, plane.z(&p, &axis)?)?.0;
+    if args.vs_field {
+        return vs_field(&args, &s, plane, &name);
+    }
+    if let Some(range) = args.through_focus {
+        return through_focus(&args, &s, plane, range, &name);
+    }
+    let m = s.mtf(field_deg, plane, &args.frequencies)?;
+    if let Some(out) = &args.plot.plot {
+        let top = m.cutoff_tangential_per_mm.min(m.cutoff_sagittal_per_mm);
+        let freqs: Vec<f64> = (1..60).map(|k| top * k as f64 / 60.0).collect();
+        let curve = s.mtf(field_deg, plane, &freqs)?;
+        let pts = |v: &[f64]| std::iter::once((0.0, 1.0)).chain(freqs.iter().copied().zip(v.iter().copied())).collect();
+        let curves = vec![
+            MtfCurve { label: "tangential".into(), points: pts(&curve.tangential), colour: 0, dashed: false },
+            MtfCurve { label: "sagittal".into(), points: pts(&curve.sagittal), colour: 1, dashed: true },
+            MtfCurve {
+                label: "diffraction limit (this pupil), T".into(),
+                points: pts(&curve.diffraction_limit_tangential),
+                colour: usize::MAX,
+                dashed: false,
+            },
+        ];
+        let title = format!("MTF: {name}, {} deg, {} nm", lens::error::Fixed(field_deg), m.wavelength_nm);
+        let panel = format!(
+            "cutoff T {:.0} c/mm, S {:.0} c/mm; on axis 1/(lambda N_w) = {:.0} c/mm",
+            m.cutoff_tangential_per_mm, m.cutoff_sagittal_per_mm, axis_cutoff
+        );
+        plot::save(&mtf_chart(&title, &panel, "spatial frequency (cycles/mm)", &curves), out)?;
+    }
+    if args.out.json {
+        print_json(&json!({
+            "field_deg": field_deg,
+            "wavelength_nm": m.wavelength_nm,
+            "image_plane": plane.name(),
+            "image_z": m.image_z,
+            "frequencies_per_mm": m.frequencies_per_mm,
+            "tangential": m.tangential,
+            "sagittal": m.sagittal,
+            "cutoff_per_mm": axis_cutoff,
+            "cutoff_tangential_per_mm": m.cutoff_tangential_per_mm,
+            "cutoff_sagittal_per_mm": m.cutoff_sagittal_per_mm,
+            "diffraction_limit": {"tangential": m.diffraction_limit_tangential, "sagittal": m.diffraction_limit_sagittal},
+            "quadrature_nodes": m.nodes,
+        }))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    outln!(
+        "diffraction MTF at {} deg, {} nm, on {}",
+        lens::error::Fixed(field_deg),
+        m.wavelength_nm,
+        crate::args::describe_plane(plane, m.image_z)
+    );
+    outln!(
+        "  cutoff              tangential {:.3} c/mm, sagittal {:.3} c/mm (on axis, 1/(lambda N_w): {:.3} c/mm)",
+        m.cutoff_tangential_per_mm,
+        m.cutoff_sagittal_per_mm,
+        axis_cutoff
+    );
+    outln!("  {:>10}  {:>10}  {:>10}  {:>22}", "c/mm", "tangential", "sagittal", "diffraction limit T, S");
+    for (i, f) in m.frequencies_per_mm.iter().enumerate() {
+        outln!(
+            "  {:>10.3}  {:>10.6}  {:>10.6}  {:>10.6}, {:>10.6}",
+            f,
+            m.tangential[i],
+            m.sagittal[i],
+            m.diffraction_limit_tangential[i],
+            m.diffraction_limit_sagittal[i]
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The fields of --vs-field: --fields, or 11 from 0 to the prescription's
+/// largest field (20 degrees where it gives none).
+fn fields(args: &Args, p: &Prescription) -> Result<Vec<f64>, String> {
+    if let Some(f) = &args.fields {
+        crate::args::check_fields("--fields", f)?;
+        return Ok(f.clone());
+    }
+    let top = p.fields_deg().iter().fold(0.0f64, |m, f| m.max(f.abs()));
+    let top = if top > 0.0 { top } else { 20.0 };
+    Ok((0..=10).map(|k| top * k as f64 / 10.0).collect())
+}
+
+/// `--vs-field`: T and S at each frequency against image height.
+fn vs_field(args: &Args, s: &Setup, plane: ImagePlane, name: &str) -> CmdResult {
+    let fields = fields(args, s.p)?;
+    let freqs = &args.frequencies;
+    let mut heights = Vec::new();
+    let mut tan: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
+    let mut sag: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
+    for &deg in &fields {
+        let launcher = s.launcher(deg)?;
+        let probe = lens::analysis::wave::opd::Probe::new(s.p, s.traced, &launcher, plane)?;
+        heights.push(probe.chief_image().y);
+        let m = mtf(s.p, s.traced, &launcher, plane, freqs)?;
+        for k in 0..freqs.len() {
+            tan[k].push(m.tangential[k]);
+            sag[k].push(m.sagittal[k]);
+        }
+    }
+    if let Some(out) = &args.plot.plot {
+        let mut curves = Vec::new();
+        for (k, f) in freqs.iter().enumerate() {
+            let pts = |v: &[f64]| heights.iter().copied().zip(v.iter().copied()).collect();
+            curves.push(MtfCurve { label: format!("{f} c/mm T"), points: pts(&tan[k]), colour: k, dashed: false });
+            curves.push(MtfCurve { label: format!("{f} c/mm S"), points: pts(&sag[k]), colour: k, dashed: true });
+        }
+        let title = format!("MTF against image height: {name}, {} nm", s.traced.wavelength_nm());
+        plot::save(&mtf_chart(&title, "tangential solid, sagittal dashed", "image height (mm)", &curves), out)?;
+    }
+    if args.out.json {
+        print_json(&json!({
+            "wavelength_nm": s.traced.wavelength_nm(),
+            "image_plane": plane.name(),
+            "fields_deg": fields,
+            "image_height_mm": heights,
+            "frequencies_per_mm": freqs,
+            "tangential": tan,
+            "sagittal": sag,
+        }))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    outln!("MTF against image height, {} nm (rows: fields; T and S at each frequency)", s.traced.wavelength_nm());
+    let head: Vec<String> = freqs.iter().map(|f| format!("{f:>8} c/mm T, S")).collect();
+    outln!("  {:>8}  {:>10}  {}", "deg", "height mm", head.join("  "));
+    for (i, deg) in fields.iter().enumerate() {
+        let vals: Vec<String> = (0..freqs.len()).map(|k| format!("{:>8.4}, {:>8.4}", tan[k][i], sag[k][i])).collect();
+        outln!("  {:>8.3}  {:>10.4}  {}", deg, heights[i], vals.join("  "));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `--through-focus MM`: T and S at each frequency with the image plane
+/// moved from -MM to +MM.
+fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &str) -> CmdResult {
+    if !(range.is_finite() && range > 0.0) {
+        return Err(format!("--through-focus {range}: give the focus range in mm, above 0").into());
+    }
+    let launcher = s.launcher(args.field.field_deg)?;
+    let z0 = plane.z(s.p, &launcher)?;
+    let freqs = &args.frequencies;
+    let shifts: Vec<f64> = (0..=20).map(|k| -range + 2.0 * range * k as f64 / 20.0).collect();
+    let mut tan: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
+    let mut sag: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
+    for &dz in &shifts {
+        let film = z0 + dz - s.p.last_vertex_z();
+        if film <= 0.0 {
+            return Err(format!(
+                "--through-focus {range}: a shift of {dz} mm puts the image plane inside the lens; give a smaller range"
+            )
+            .into());
+        }
+        let m = mtf(s.p, s.traced, &launcher, ImagePlane::Film(film), freqs)?;
+        for k in 0..freqs.len() {
+            tan[k].push(m.tangential[k]);
+            sag[k].push(m.sagittal[k]);
+        }
+    }
+    if let Some(out) = &args.plot.plot {
+        let mut curves = Vec::new();
+        for (k, f) in freqs.iter().enumerate() {
+            let pts = |v: &[f64]| shifts.iter().copied().zip(v.iter().copied()).collect();
+            curves.push(MtfCurve { label: format!("{f} c/mm T"), points: pts(&tan[k]), colour: k, dashed: false });
+            curves.push(MtfCurve { label: format!("{f} c/mm S"), points: pts(&sag[k]), colour: k, dashed: true });
+        }
+        let title = format!(
+            "Through-focus MTF: {name}, {} deg, {} nm",
+            lens::error::Fixed(args.field.field_deg),
+            s.traced.wavelength_nm()
+        );
+        plot::save(&mtf_chart(&title, "tangential solid, sagittal dashed", "focus shift (mm)", &curves), out)?;
+    }
+    if args.out.json {
+        print_json(&json!({
+            "field_deg": args.field.field_deg,
+            "wavelength_nm": s.traced.wavelength_nm(),
+            "image_z": z0,
+            "focus_shift_mm": shifts,
+            "frequencies_per_mm": freqs,
+            "tangential": tan,
+            "sagittal": sag,
+        }))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    outln!(
+        "through-focus MTF at {} deg, {} nm, about z = {:.6} mm",
+        lens::error::Fixed(args.field.field_deg),
+        s.traced.wavelength_nm(),
+        z0
+    );
+    let head: Vec<String> = freqs.iter().map(|f| format!("{f:>8} c/mm T, S")).collect();
+    outln!("  {:>10}  {}", "shift mm", head.join("  "));
+    for (i, dz) in shifts.iter().enumerate() {
+        let vals: Vec<String> = (0..freqs.len()).map(|k| format!("{:>8.4}, {:>8.4}", tan[k][i], sag[k][i])).collect();
+        outln!("  {:>+10.4}  {}", dz, vals.join("  "));
+    }
+    Ok(ExitCode::SUCCESS)
+}

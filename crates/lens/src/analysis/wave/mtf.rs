@@ -28,8 +28,10 @@ use crate::trace::{RayBatch, Tracer};
 use nalgebra::Complex;
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
-/// How far refinement lets a value move before it stops.
-pub const TOLERANCE: f64 = 1e-4;
+/// How far a value may move when the nodes double for refinement to stop
+/// (the finer value is kept: its own error is then about a tenth of that,
+/// the convergence being fast; docs/analyses.md).
+pub const TOLERANCE: f64 = 1e-3;
 
 /// Quadrature nodes per axis at the start, and the most refinement goes to.
 const FIRST_NODES: usize = 16;
@@ -134,13 +136,18 @@ pub fn mtf(
         .iter()
         .flat_map(|&f| [(Direction::Tangential, 2.0 * f / ct), (Direction::Sagittal, 2.0 * f / cs)])
         .collect();
+    // the pupil's own integral (the zero shift) first, then each shift's;
+    // their spans across the shift found once for every refinement
+    let all: Vec<(Direction, f64)> =
+        std::iter::once((Direction::Tangential, 0.0)).chain(shifts.iter().copied()).collect();
+    let spans = across(&probe, &all)?;
     let mut nodes = FIRST_NODES;
-    let mut last = transfer(&probe, &shifts, nodes)?;
+    let mut last = transfer(&probe, &all, &spans, nodes)?;
     loop {
         if nodes * 2 > MOST_NODES {
             break;
         }
-        let next = transfer(&probe, &shifts, nodes * 2)?;
+        let next = transfer(&probe, &all, &spans, nodes * 2)?;
         let moved = last.0.iter().zip(&next.0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
         nodes *= 2;
         last = next;
@@ -165,9 +172,10 @@ pub fn mtf(
     })
 }
 
-/// The MTF at each (direction, normalised shift) and the same pupil's
-/// without aberration, with `n` chords across each overlap and `n` nodes
-/// along each chord's passing part.
+/// The MTF at each (direction, normalised shift) of `all` but the first
+/// (the zero shift, the pupil's own integral) and the same pupil's without
+/// aberration, with `n` chords across each overlap (over its span across,
+/// `spans`) and `n` nodes along each chord's passing part.
 ///
 /// The overlap of the unit disk with its shifted copy is cut into chords
 /// along the shift (b = c sin(phi) at Gauss-Legendre nodes in phi); on
@@ -176,12 +184,13 @@ pub fn mtf(
 /// integrated by Gauss-Legendre over exactly that part: vignetting's edges
 /// do not cut through the nodes, so the integral converges as fast as the
 /// wavefront is smooth along the chords.
-fn transfer(probe: &Probe, shifts: &[(Direction, f64)], n: usize) -> Result<(Vec<f64>, Vec<f64>), OpticsError> {
-    // the pupil's own integral (the zero shift) first, then each shift's
-    let all: Vec<(Direction, f64)> =
-        std::iter::once((Direction::Tangential, 0.0)).chain(shifts.iter().copied()).collect();
+fn transfer(
+    probe: &Probe,
+    all: &[(Direction, f64)],
+    spans: &[(f64, f64)],
+    n: usize,
+) -> Result<(Vec<f64>, Vec<f64>), OpticsError> {
     let (phis, wphi) = gauss_legendre(n, -FRAC_PI_2, FRAC_PI_2);
-    let spans = across(probe, &all)?;
     let mut chords = Vec::with_capacity(all.len() * n);
     for (k, &(d, s)) in all.iter().enumerate() {
         // b = m + r sin(phi) over the span where any ray pair passes (the
@@ -241,7 +250,7 @@ fn transfer(probe: &Probe, shifts: &[(Direction, f64)], n: usize) -> Result<(Vec
 const CHORD_SAMPLES: usize = 24;
 
 /// Bisections of each change between passing and blocked along a chord.
-const BISECTIONS: usize = 40;
+const BISECTIONS: usize = 26;
 
 /// One chord of an overlap: at b across the shift, a from -half to +half
 /// along it.

@@ -4,6 +4,7 @@
 
 use super::opd::Wavefront;
 use nalgebra::Complex;
+use rayon::prelude::*;
 use std::f64::consts::TAU;
 
 /// The wavefront's statistics, in waves at its wavelength.
@@ -89,18 +90,31 @@ fn strehl(samples: &[((f64, f64), f64, f64)], start: (f64, f64)) -> f64 {
     // |S|^2 and its gradient and Hessian in (a, b)
     let eval = |a: f64, b: f64| {
         let zero = Complex::new(0.0, 0.0);
-        let (mut s, mut sa, mut sb, mut saa, mut sab, mut sbb) = (zero, zero, zero, zero, zero, zero);
         let i = Complex::new(0.0, 1.0);
-        for &((x, y), wt, w) in samples {
-            let e = Complex::from_polar(wt, TAU * (w - a * x - b * y));
-            s += e;
-            // d/da of exp(i phi) is -2 pi i x exp(i phi)
-            sa += e * i * (-TAU * x);
-            sb += e * i * (-TAU * y);
-            saa += e * (-TAU * TAU * x * x);
-            sab += e * (-TAU * TAU * x * y);
-            sbb += e * (-TAU * TAU * y * y);
-        }
+        // S and its derivatives, summed over chunks on all cores
+        let [s, sa, sb, saa, sab, sbb] = samples
+            .par_chunks(4096)
+            .map(|chunk| {
+                let mut acc = [zero; 6];
+                for &((x, y), wt, w) in chunk {
+                    let e = Complex::from_polar(wt, TAU * (w - a * x - b * y));
+                    acc[0] += e;
+                    // d/da of exp(i phi) is -2 pi i x exp(i phi)
+                    acc[1] += e * i * (-TAU * x);
+                    acc[2] += e * i * (-TAU * y);
+                    acc[3] += e * (-TAU * TAU * x * x);
+                    acc[4] += e * (-TAU * TAU * x * y);
+                    acc[5] += e * (-TAU * TAU * y * y);
+                }
+                acc
+            })
+            .reduce(
+                || [zero; 6],
+                |mut p, q| {
+                    p.iter_mut().zip(q).for_each(|(p, q)| *p += q);
+                    p
+                },
+            );
         // Re(conj(p) q)
         let dot = |p: Complex<f64>, q: Complex<f64>| (p.conj() * q).re;
         let f = s.norm_sqr();

@@ -16,6 +16,7 @@
 
 use super::opd::Wavefront;
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 
 /// Which Zernike order and normalisation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -159,21 +160,144 @@ pub fn fit(w: &Wavefront, kind: ZernikeKind, terms: usize) -> Option<ZernikeFit>
     fit_samples(&samples, kind, terms)
 }
 
-/// [`fit`] over samples (normalised pupil point, weight, W in waves).
+/// The first terms of one order, ready to evaluate together: each term's
+/// azimuthal order m, angular factor, and radial polynomial as rho^m times
+/// a polynomial in rho^2 (its coefficients from the constant up, the
+/// normalisation folded in).
+struct Basis {
+    terms: Vec<(usize, bool, Vec<f64>)>,
+    /// The largest azimuthal order.
+    m_max: usize,
+}
+
+impl Basis {
+    fn new(kind: ZernikeKind, count: usize) -> Self {
+        let fact = |k: u32| (1..=k).map(f64::from).product::<f64>();
+        let terms: Vec<(usize, bool, Vec<f64>)> = (1..=count)
+            .map(|j| {
+                let t = kind.term(j);
+                let norm = match kind {
+                    ZernikeKind::Fringe => 1.0,
+                    ZernikeKind::Standard if t.m == 0 => ((t.n + 1) as f64).sqrt(),
+                    ZernikeKind::Standard => (2.0 * (t.n + 1) as f64).sqrt(),
+                };
+                // R = sum_s (-1)^s (n - s)! / (s! ((n+m)/2 - s)! ((n-m)/2 - s)!) rho^(n - 2s):
+                // the power of rho^2 after rho^m is (n - m)/2 - s
+                let top = ((t.n - t.m) / 2) as usize;
+                let mut c = vec![0.0; top + 1];
+                for s in 0..=(t.n - t.m) / 2 {
+                    let sign = if s % 2 == 0 { 1.0 } else { -1.0 };
+                    c[top - s as usize] =
+                        norm * sign * fact(t.n - s) / (fact(s) * fact((t.n + t.m) / 2 - s) * fact((t.n - t.m) / 2 - s));
+                }
+                (t.m as usize, t.sine, c)
+            })
+            .collect();
+        let m_max = terms.iter().map(|t| t.0).max().unwrap_or(0);
+        Basis { terms, m_max }
+    }
+
+    /// Every term at (x, y) into `out`: rho^m cos/sin(m theta) by the
+    /// recurrence of (x + i y)^m (no trigonometric calls), the rest by
+    /// Horner's rule in rho^2.
+    fn eval(&self, x: f64, y: f64, out: &mut [f64]) {
+        let r2 = x * x + y * y;
+        // (x + i y)^m = rho^m (cos m theta + i sin m theta)
+        let mut pm = [(1.0, 0.0); 24];
+        for m in 1..=self.m_max.min(23) {
+            let (c, s) = pm[m - 1];
+            pm[m] = (c * x - s * y, s * x + c * y);
+        }
+        for (o, (m, sine, c)) in out.iter_mut().zip(&self.terms) {
+            let poly = c.iter().rev().fold(0.0, |acc, a| acc * r2 + a);
+            let (re, im) = pm[*m];
+            *o = poly * if *sine { im } else { re };
+        }
+    }
+}
+
+/// [`fit`] over samples (normalised pupil point, weight, W in waves): the
+/// normal equations (the terms are nearly orthogonal over the pupil, so
+/// they are well conditioned), solved by Cholesky, or by a truncated
+/// eigen-decomposition where vignetting leaves terms nearly dependent.
 pub fn fit_samples(samples: &[((f64, f64), f64, f64)], kind: ZernikeKind, terms: usize) -> Option<ZernikeFit> {
     if terms == 0 || samples.len() < terms || (kind == ZernikeKind::Fringe && terms > TERMS) {
         return None;
     }
-    let a = DMatrix::from_fn(samples.len(), terms, |i, j| {
-        let ((x, y), wt, _) = samples[i];
-        wt.sqrt() * kind.value(j + 1, x, y)
-    });
-    let b = DVector::from_iterator(samples.len(), samples.iter().map(|s| s.1.sqrt() * s.2));
-    let svd = a.clone().svd(true, true);
-    let c = svd.solve(&b, 1e-12 * svd.singular_values.max()).ok()?;
-    let total: f64 = samples.iter().map(|s| s.1).sum();
-    let residual = (&a * &c - &b).norm_squared() / total;
-    Some(ZernikeFit { kind, coefficients: c.iter().copied().collect(), rms_residual: residual.sqrt() })
+    let basis = Basis::new(kind, terms);
+    // the normal equations' upper triangle (row by row) and right side,
+    // summed over chunks of samples on all cores (well conditioned: the
+    // terms are nearly orthogonal over the pupil)
+    let tri = terms * (terms + 1) / 2;
+    let (g, rhs, total) = samples
+        .par_chunks(4096)
+        .map(|chunk| {
+            let mut g = vec![0.0; tri];
+            let mut rhs = vec![0.0; terms];
+            let mut total = 0.0;
+            let mut z = vec![0.0; terms];
+            for &((x, y), wt, v) in chunk {
+                basis.eval(x, y, &mut z);
+                let mut off = 0;
+                for a in 0..terms {
+                    let za = wt * z[a];
+                    rhs[a] += za * v;
+                    for (g, zb) in g[off..off + terms - a].iter_mut().zip(&z[a..]) {
+                        *g += za * zb;
+                    }
+                    off += terms - a;
+                }
+                total += wt;
+            }
+            (g, rhs, total)
+        })
+        .reduce(
+            || (vec![0.0; tri], vec![0.0; terms], 0.0),
+            |mut a, b| {
+                a.0.iter_mut().zip(&b.0).for_each(|(x, y)| *x += y);
+                a.1.iter_mut().zip(&b.1).for_each(|(x, y)| *x += y);
+                (a.0, a.1, a.2 + b.2)
+            },
+        );
+    let mut ata = DMatrix::<f64>::zeros(terms, terms);
+    let mut off = 0;
+    for a in 0..terms {
+        for b in a..terms {
+            ata[(a, b)] = g[off + b - a];
+            ata[(b, a)] = g[off + b - a];
+        }
+        off += terms - a;
+    }
+    let atb = DVector::from_vec(rhs);
+    let c = match ata.clone().cholesky() {
+        Some(ch) => ch.solve(&atb),
+        None => {
+            let e = ata.clone().symmetric_eigen();
+            let top = e.eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let inv = e.eigenvalues.map(|v| if v.abs() > 1e-12 * top { 1.0 / v } else { 0.0 });
+            &e.eigenvectors * DMatrix::from_diagonal(&inv) * e.eigenvectors.transpose() * &atb
+        }
+    };
+    if !c.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    // the residual's weighted sum of squares, summed directly (from the
+    // normal equations' pieces it would cancel digits)
+    let residual: f64 = samples
+        .par_chunks(4096)
+        .map(|chunk| {
+            let mut z = vec![0.0; terms];
+            chunk
+                .iter()
+                .map(|&((x, y), wt, v)| {
+                    basis.eval(x, y, &mut z);
+                    let fit: f64 = z.iter().zip(c.iter()).map(|(a, b)| a * b).sum();
+                    wt * (v - fit) * (v - fit)
+                })
+                .sum::<f64>()
+        })
+        .sum();
+    Some(ZernikeFit { kind, coefficients: c.iter().copied().collect(), rms_residual: (residual / total).sqrt() })
 }
 
 #[cfg(test)]

@@ -231,3 +231,77 @@ fn frequencies_outside_zero_to_the_cutoff_are_refused() {
         assert!(e.contains("frequency"), "{e}");
     }
 }
+
+/// The first minimum of a radial profile sampled every `step` from the
+/// centre (a parabola through the lowest sample and its neighbours).
+fn first_minimum(profile: &[f64], step: f64) -> f64 {
+    let k = (1..profile.len() - 1).find(|&k| profile[k] <= profile[k - 1] && profile[k] <= profile[k + 1]).unwrap();
+    let (a, b, c) = (profile[k - 1], profile[k], profile[k + 1]);
+    (k as f64 + 0.5 * (a - c) / (a - 2.0 * b + c)) * step
+}
+
+#[test]
+fn an_aberration_free_pupil_images_the_airy_pattern() {
+    use lens::analysis::wave::mtf::cutoffs;
+    use lens::analysis::wave::psf::{fft_psf, huygens_psf};
+    let (p, _, _) = ellipsoid(1.0, 0.0);
+    let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+    let w = wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+    let (ct, cs) = cutoffs(&p, &p, &launcher, w.image_z).unwrap();
+    let lambda_nw = 1.0 / ct;
+    // FFT, padded 16 times: the first zero at 1.2197 lambda N_w, 83.8% of
+    // the light inside it
+    let fft = fft_psf(&w, (ct, cs), 16);
+    let mid = fft.size / 2;
+    let row: Vec<f64> = (mid..fft.size).map(|c| fft.intensity[mid * fft.size + c]).collect();
+    let zero = first_minimum(&row, fft.pixel_mm.0);
+    let ee = fft.encircled_energy((0.0, 0.0), &[1.2197 * lambda_nw])[0];
+    println!("FFT: peak {:.6}, first zero {:.5} lambda N_w, energy inside it {ee:.4}", fft.peak(), zero / lambda_nw);
+    assert!((fft.peak() - 1.0).abs() < 1e-9);
+    assert!((zero / lambda_nw - 1.2197).abs() < 0.005 * 1.2197);
+    assert!((ee - 0.838).abs() < 0.01);
+    // Huygens over the sphere: the same zero
+    let step = lambda_nw / 16.0;
+    let h = huygens_psf(&w, 61, (step, step));
+    let mid = h.size / 2;
+    let row: Vec<f64> = (mid..h.size).map(|c| h.intensity[mid * h.size + c]).collect();
+    let zero = first_minimum(&row, step);
+    println!("Huygens: peak {:.6}, first zero {:.5} lambda N_w", h.peak(), zero / lambda_nw);
+    assert!((h.peak() - 1.0).abs() < 1e-9);
+    assert!((zero / lambda_nw - 1.2197).abs() < 0.005 * 1.2197);
+}
+
+#[test]
+fn huygens_and_fft_psfs_agree_on_a_slow_defocused_pupil() {
+    use lens::analysis::wave::mtf::cutoffs;
+    use lens::analysis::wave::psf::{fft_psf, huygens_psf};
+    // where both are valid: a Fresnel number a^2 / (lambda R) of ~300 (at
+    // ~35, the ellipsoid at 1 mm, Huygens sees the defocused focus's
+    // shift toward the pupil that Fraunhofer leaves out: 5e-3 of the peak)
+    for dz in [0.0, 0.045] {
+        let (p, _, _) = ellipsoid(3.0, dz);
+        let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+        let w = wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+        let s = stats(&w);
+        let (ct, cs) = cutoffs(&p, &p, &launcher, w.image_z).unwrap();
+        let fft = fft_psf(&w, (ct, cs), 4);
+        let huygens = huygens_psf(&w, 33, fft.pixel_mm);
+        let (f0, h0) = (fft.size / 2 - 16, 0);
+        let mut worst: f64 = 0.0;
+        for row in 0..33 {
+            for col in 0..33 {
+                let a = fft.intensity[(f0 + row) * fft.size + f0 + col];
+                let b = huygens.intensity[(h0 + row) * 33 + col];
+                worst = worst.max((a - b).abs());
+            }
+        }
+        let centre = huygens.intensity[16 * 33 + 16];
+        println!(
+        "defocused: Strehl {:.5} (stats), {centre:.5} (Huygens at the centre), {:.5} (FFT); largest difference {worst:.2e}",
+        s.strehl,
+        fft.intensity[(fft.size / 2) * fft.size + fft.size / 2]
+    );
+        assert!(worst < 2e-3, "{worst}");
+        assert!((centre - s.strehl).abs() < 2e-3);
+    }
+}

@@ -11,6 +11,7 @@
 
 pub mod mtf;
 pub mod opd;
+pub mod psf;
 pub mod pupil;
 pub mod stats;
 pub mod zernike;

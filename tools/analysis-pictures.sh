@@ -22,3 +22,5 @@ $lens wavefront $dg --field-deg 14 --plot $out/double-gauss-wavefront-14.png > /
 $lens mtf $dg --field-deg 10 --plot $out/double-gauss-mtf-10.png > /dev/null
 $lens mtf $dg --vs-field --frequencies 10,30 --plot $out/double-gauss-mtf-field.png > /dev/null
 $lens mtf $dg --through-focus 0.2 --frequencies 10,30 --plot $out/double-gauss-mtf-focus.png > /dev/null
+$lens psf $dg --field-deg 0 --plot $out/double-gauss-psf-0.png > /dev/null
+$lens psf $dg --field-deg 10 --plot $out/double-gauss-psf-10.png > /dev/null

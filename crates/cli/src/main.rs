@@ -33,6 +33,7 @@ mod info;
 mod layout;
 mod mtf;
 mod outputs;
+mod psf;
 mod render;
 mod spot;
 mod study;
@@ -68,6 +69,8 @@ enum Command {
     Wavefront(wavefront::Args),
     /// Diffraction MTF at a field: at chosen frequencies, against frequency, image height or focus.
     Mtf(mtf::Args),
+    /// Point spread function at a field (FFT or Huygens): Strehl, encircled energy, image.
+    Psf(psf::Args),
     /// Real circles of confusion beside the thin-lens formula.
     Coc(coc::Args),
     /// Distortion, field curvature, spherical aberration, vignetting.
@@ -100,6 +103,7 @@ fn main() -> ExitCode {
         Command::Spot(a) => spot::run(a),
         Command::Wavefront(a) => wavefront::run(a),
         Command::Mtf(a) => mtf::run(a),
+        Command::Psf(a) => psf::run(a),
         Command::Coc(a) => coc::run(a),
         Command::Field(a) => field::run(a),
         Command::Chromatic(a) => chromatic::run(a),

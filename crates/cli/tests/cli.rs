@@ -537,3 +537,39 @@ fn mtf_json_has_the_contract_keys_and_refuses_bad_frequencies() {
     assert_eq!(v["fields_deg"].as_array().unwrap().len(), 11);
     assert_eq!(v["tangential"].as_array().unwrap().len(), 2);
 }
+
+#[test]
+fn psf_json_has_its_keys_and_writes_an_exr() {
+    let dir = std::env::temp_dir().join(format!("lens-psf-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let exr = dir.join("psf.exr");
+    for method in ["fft", "huygens"] {
+        let (code, out, err) = lens(&[
+            "psf",
+            "lens-data/double-gauss-50mm.json",
+            "--method",
+            method,
+            "--pixels",
+            "32",
+            "--json",
+            "--exr",
+            exr.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{method}: {err}");
+        let v = json(&out);
+        assert_eq!(v["method"], method);
+        let strehl = v["strehl"].as_f64().unwrap();
+        let peak = v["peak"].as_f64().unwrap();
+        // the grid's largest pixel never above the off-grid peak
+        assert!(peak <= strehl + 1e-9 && strehl > 0.0 && strehl < 1.0, "{method}: {peak} {strehl}");
+        let ee: Vec<f64> =
+            v["encircled_energy"]["fraction"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
+        assert!(ee.windows(2).all(|w| w[1] >= w[0]) && *ee.last().unwrap() <= 1.0 + 1e-9, "{method}: {ee:?}");
+        assert!(v["pixel_x_mm"].as_f64().unwrap() > 0.0 && v["size"].as_u64().unwrap() >= 32);
+        assert!(std::fs::metadata(&exr).unwrap().len() > 1000);
+    }
+    let (code, _, err) = lens(&["psf", "lens-data/double-gauss-50mm.json", "--pad", "1"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--pad"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -262,11 +262,17 @@ fn an_aberration_free_pupil_images_the_airy_pattern() {
     assert!((ee - 0.838).abs() < 0.01);
     // Huygens over the sphere: the same zero
     let step = lambda_nw / 16.0;
-    let h = huygens_psf(&w, 61, (step, step));
+    let h = huygens_psf(&w, 61, (step, step), (ct, cs));
     let mid = h.size / 2;
     let row: Vec<f64> = (mid..h.size).map(|c| h.intensity[mid * h.size + c]).collect();
     let zero = first_minimum(&row, step);
-    println!("Huygens: peak {:.6}, first zero {:.5} lambda N_w", h.peak(), zero / lambda_nw);
+    let ee_h = h.encircled_energy((0.0, 0.0), &[1.2197 * lambda_nw])[0];
+    println!(
+        "Huygens: peak {:.6}, first zero {:.5} lambda N_w, energy inside it {ee_h:.4}",
+        h.peak(),
+        zero / lambda_nw
+    );
+    assert!((ee_h - 0.838).abs() < 0.01, "the whole plane's light as the FFT's");
     assert!((h.peak() - 1.0).abs() < 1e-9);
     assert!((zero / lambda_nw - 1.2197).abs() < 0.005 * 1.2197);
 }
@@ -285,7 +291,7 @@ fn huygens_and_fft_psfs_agree_on_a_slow_defocused_pupil() {
         let s = stats(&w);
         let (ct, cs) = cutoffs(&p, &p, &launcher, w.image_z).unwrap();
         let fft = fft_psf(&w, (ct, cs), 4);
-        let huygens = huygens_psf(&w, 33, fft.pixel_mm);
+        let huygens = huygens_psf(&w, 33, fft.pixel_mm, (ct, cs));
         let (f0, h0) = (fft.size / 2 - 16, 0);
         let mut worst: f64 = 0.0;
         for row in 0..33 {

@@ -88,3 +88,81 @@ pub fn mtf_chart(title: &str, panel_title: &str, x_label: &str, curves: &[MtfCur
     };
     Figure { title: title.into(), panels: vec![panel], columns: 1, panel_size: (720.0, 520.0) }.to_svg()
 }
+
+/// A sequential colour for `t` in [0, 1]: black through blue and orange to
+/// white.
+pub fn sequential(t: f64) -> String {
+    let t = t.clamp(0.0, 1.0);
+    let stops = [
+        (0.0, [0.0, 0.0, 4.0]),
+        (0.3, [60.0, 15.0, 110.0]),
+        (0.6, [200.0, 60.0, 60.0]),
+        (0.85, [250.0, 170.0, 40.0]),
+        (1.0, [252.0, 252.0, 220.0]),
+    ];
+    let k = stops.iter().rposition(|s| s.0 <= t).unwrap_or(0).min(stops.len() - 2);
+    let (a, b) = (stops[k], stops[k + 1]);
+    let u = (t - a.0) / (b.0 - a.0);
+    let c: Vec<u8> = (0..3).map(|i| (a.1[i] + (b.1[i] - a.1[i]) * u).round() as u8).collect();
+    format!("#{:02x}{:02x}{:02x}", c[0], c[1], c[2])
+}
+
+/// A PSF picture: the image (log10 over `decades` below its peak, or
+/// linear) in micrometres about the chief ray's image point, cropped to
+/// `half_width` pixels about the centre, and its encircled energy against
+/// radius (micrometres).
+pub fn psf_chart(
+    title: &str,
+    psf: &lens::analysis::wave::psf::Psf,
+    half_width: usize,
+    log_decades: Option<f64>,
+    ee: &[(f64, f64)],
+) -> String {
+    let peak = psf.peak().max(f64::MIN_POSITIVE);
+    let mid = psf.size / 2;
+    let lo = mid.saturating_sub(half_width);
+    let hi = (mid + half_width).min(psf.size - 1);
+    let (px, py) = (psf.pixel_mm.0 * 1e3, psf.pixel_mm.1 * 1e3);
+    let mut cells = Vec::new();
+    for row in lo..=hi {
+        for col in lo..=hi {
+            let v = psf.intensity[row * psf.size + col] / peak;
+            let t = match log_decades {
+                Some(d) => 1.0 + v.max(1e-300).log10() / d,
+                None => v,
+            };
+            if t <= 0.0 {
+                continue;
+            }
+            let (x, y) = psf.position(col, row);
+            let (x, y) = (x * 1e3, y * 1e3);
+            cells.push(([x - 0.5 * px, y - 0.5 * py, x + 0.5 * px, y + 0.5 * py], sequential(t)));
+        }
+    }
+    let (x0, _) = psf.position(lo, lo);
+    let (x1, _) = psf.position(hi, hi);
+    let span = (x0.abs().max(x1.abs()) * 1e3, (psf.position(lo, lo).1.abs().max(psf.position(hi, hi).1.abs())) * 1e3);
+    let scale = match log_decades {
+        Some(d) => format!("log10 scale, {d} decades below the peak (black)"),
+        None => "linear scale".into(),
+    };
+    let image = Panel {
+        title: format!("{} PSF, {scale}", psf.method.name().to_uppercase()),
+        x_label: "x (µm from the chief ray)".into(),
+        y_label: "y (µm)".into(),
+        cells,
+        equal_aspect: true,
+        x_range: Some((-span.0, span.0)),
+        y_range: Some((-span.1, span.1)),
+        ..Panel::default()
+    };
+    let curve = Panel {
+        title: "encircled energy about the centroid".into(),
+        x_label: "radius (µm)".into(),
+        y_label: "fraction".into(),
+        series: vec![Series::new("", ee.iter().map(|(r, f)| (r * 1e3, *f)).collect(), PALETTE[0], Style::Line)],
+        y_range: Some((0.0, 1.02)),
+        ..Panel::default()
+    };
+    Figure { title: title.into(), panels: vec![image, curve], columns: 2, panel_size: (520.0, 520.0) }.to_svg()
+}

@@ -54,6 +54,10 @@ pub struct Psf {
     /// chief ray's image point at (size / 2, size / 2). Normalised so the
     /// same pupil without aberration peaks at 1.
     pub intensity: Vec<f64>,
+    /// The light of the whole image plane in the units of a pixel sum
+    /// (Parseval: the same with or without aberration); a Huygens image
+    /// holds less than this where its window is smaller than the PSF.
+    pub total: f64,
 }
 
 impl Psf {
@@ -90,11 +94,11 @@ impl Psf {
         }
     }
 
-    /// The fraction of the image's energy within each radius of `radii_mm`
+    /// The fraction of all the light within each radius of `radii_mm`
     /// about `centre` (mm from the chief ray's image point): encircled
     /// energy, each pixel split 4 x 4 for the circle's edge.
     pub fn encircled_energy(&self, centre: (f64, f64), radii_mm: &[f64]) -> Vec<f64> {
-        let total: f64 = self.intensity.iter().sum();
+        let total = self.total;
         if total <= 0.0 {
             return vec![0.0; radii_mm.len()];
         }
@@ -120,10 +124,10 @@ impl Psf {
         out
     }
 
-    /// The fraction of the image's energy within squares of half-width
-    /// each of `half_widths_mm` about `centre`: ensquared energy.
+    /// The fraction of all the light within squares of half-width each of
+    /// `half_widths_mm` about `centre`: ensquared energy.
     pub fn ensquared_energy(&self, centre: (f64, f64), half_widths_mm: &[f64]) -> Vec<f64> {
-        let total: f64 = self.intensity.iter().sum();
+        let total = self.total;
         half_widths_mm
             .iter()
             .map(|&h| {
@@ -189,7 +193,14 @@ pub fn fft_psf(w: &Wavefront, cutoffs: (f64, f64), pad: usize) -> Psf {
         }
     }
     let (ct, cs) = cutoffs;
-    Psf { method: PsfMethod::Fft, size: m, pixel_mm: (1.0 / (pad as f64 * cs), 1.0 / (pad as f64 * ct)), intensity }
+    let total = intensity.iter().sum();
+    Psf {
+        method: PsfMethod::Fft,
+        size: m,
+        pixel_mm: (1.0 / (pad as f64 * cs), 1.0 / (pad as f64 * ct)),
+        intensity,
+        total,
+    }
 }
 
 /// `out` = the transpose of the m x m matrix `a`.
@@ -205,7 +216,10 @@ fn transpose(a: &[Complex<f64>], out: &mut [Complex<f64>], m: usize) {
 /// pixels `pixel_mm` (x, y) about the chief ray's image point: each
 /// passing cell's point on the reference sphere sends a wavelet A exp(2 pi
 /// i W) exp(-2 pi i n' (|X - E| - R) / lambda) to each image point X.
-pub fn huygens_psf(w: &Wavefront, size: usize, pixel_mm: (f64, f64)) -> Psf {
+/// `cutoffs` (tangential, sagittal; cycles/mm) scale the whole plane's
+/// light ([`Psf::total`]): as an FFT image of these pixels would hold it,
+/// (Q_x n)(Q_y n) sum A^2 / (sum A)^2 with Q = 1 / (pixel nu_c).
+pub fn huygens_psf(w: &Wavefront, size: usize, pixel_mm: (f64, f64), cutoffs: (f64, f64)) -> Psf {
     let size = size.max(1);
     let c = w.chief_image;
     let k = TAU * w.image_index / w.wavelength_mm();
@@ -229,5 +243,9 @@ pub fn huygens_psf(w: &Wavefront, size: usize, pixel_mm: (f64, f64)) -> Psf {
             u.norm_sqr() / (peak * peak)
         })
         .collect();
-    Psf { method: PsfMethod::Huygens, size, pixel_mm, intensity }
+    let n = w.grid.n as f64;
+    let (qx, qy) = (1.0 / (pixel_mm.0 * cutoffs.1), 1.0 / (pixel_mm.1 * cutoffs.0));
+    let power: f64 = sources.iter().map(|s| s.1.norm_sqr()).sum();
+    let total = qx * n * qy * n * power / (peak * peak);
+    Psf { method: PsfMethod::Huygens, size, pixel_mm, intensity, total }
 }

@@ -1,0 +1,167 @@
+//! `lens psf`: the point spread function of a field (FFT or Huygens), its
+//! Strehl ratio and encircled energy.
+
+use crate::args::{AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
+use crate::{print_json, CmdResult};
+use lens::analysis::wave::mtf::cutoffs;
+use lens::analysis::wave::psf::{fft_psf, huygens_psf, Psf};
+use lens::analysis::wave::{stats, wavefront, wavefront_auto};
+use lens::analysis::{Field, Launcher};
+use lens::paraxial::FirstOrder;
+use serde_json::json;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum MethodArg {
+    /// The FFT of the zero-padded pupil function (Fraunhofer).
+    Fft,
+    /// Huygens wavelets from the reference sphere onto the image plane.
+    Huygens,
+}
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    lens: LensArgs,
+    #[command(flatten)]
+    field: FieldArgs,
+    #[command(flatten)]
+    aim: AimArgs,
+    #[command(flatten)]
+    plane: PlaneArgs,
+    #[command(flatten)]
+    wavelength: WavelengthArgs,
+    /// How the PSF is computed.
+    #[arg(long, value_enum, default_value_t = MethodArg::Fft)]
+    method: MethodArg,
+    /// Pupil samples across the diameter (default: 64, or finer where the
+    /// wavefront needs it; see `lens wavefront`).
+    #[arg(long, value_name = "N")]
+    grid: Option<usize>,
+    /// Samples per lambda N_w on the image plane (the FFT's padding Q:
+    /// pixel = lambda N_w / Q along each direction).
+    #[arg(long, value_name = "Q", default_value_t = 4)]
+    pad: usize,
+    /// Huygens image size, pixels across.
+    #[arg(long, value_name = "N", default_value_t = 64)]
+    pixels: usize,
+    /// Plot the image on a linear scale instead of 4 decades of log10.
+    #[arg(long)]
+    linear: bool,
+    /// Also write the image (linear, normalised to the aberration-free
+    /// peak, +y up) as an OpenEXR file.
+    #[arg(long, value_name = "OUT.exr")]
+    exr: Option<PathBuf>,
+    #[command(flatten)]
+    out: JsonArgs,
+    #[command(flatten)]
+    plot: PlotArgs,
+}
+
+pub fn run(args: Args) -> CmdResult {
+    args.lens.check_plot(args.plot.plot.as_deref())?;
+    args.lens.check_output(args.exr.as_deref(), "--exr", &["exr"])?;
+    if !(2..=64).contains(&args.pad) {
+        return Err(format!("--pad {}: give 2 to 64 samples per lambda N_w", args.pad).into());
+    }
+    if !(8..=1024).contains(&args.pixels) {
+        return Err(format!("--pixels {}: give 8 to 1024 pixels across", args.pixels).into());
+    }
+    let plane = args.plane.plane()?;
+    let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
+    let first = FirstOrder::of(&p)?;
+    let field_deg = args.field.field_deg;
+    crate::args::check_fields("--field-deg", &[field_deg])?;
+    let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), args.aim.aim())?;
+    let w = match args.grid {
+        Some(n) => wavefront(&p, &traced, &launcher, n, plane)?,
+        None => wavefront_auto(&p, &traced, &launcher, plane)?,
+    };
+    let s = stats(&w);
+    let (ct, cs) = cutoffs(&p, &traced, &launcher, w.image_z)?;
+    let psf = match args.method {
+        MethodArg::Fft => fft_psf(&w, (ct, cs), args.pad),
+        MethodArg::Huygens => {
+            huygens_psf(&w, args.pixels, (1.0 / (args.pad as f64 * cs), 1.0 / (args.pad as f64 * ct)), (ct, cs))
+        }
+    };
+    let centroid = psf.centroid();
+    // encircled energy out to most of the image's half-width
+    let reach = 0.45 * psf.size as f64 * psf.pixel_mm.0.min(psf.pixel_mm.1);
+    let radii: Vec<f64> = (1..=60).map(|k| reach * k as f64 / 60.0).collect();
+    let ee = psf.encircled_energy(centroid, &radii);
+    let sq = psf.ensquared_energy(centroid, &radii);
+    if let Some(out) = &args.plot.plot {
+        // crop to where the encircled energy reaches 99%, at least 16 pixels
+        let r99 = radii.iter().zip(&ee).find(|(_, f)| **f >= 0.99).map_or(reach, |(r, _)| *r);
+        let half = ((r99 / psf.pixel_mm.0.min(psf.pixel_mm.1)).ceil() as usize).clamp(16, psf.size / 2);
+        let title = format!(
+            "PSF: {}, {} deg, {} nm, Strehl {:.4}",
+            args.lens.name(&p),
+            lens::error::Fixed(field_deg),
+            w.wavelength_nm,
+            s.strehl
+        );
+        let curve: Vec<(f64, f64)> =
+            std::iter::once((0.0, 0.0)).chain(radii.iter().copied().zip(ee.iter().copied())).collect();
+        let log = (!args.linear).then_some(4.0);
+        plot::save(&plot::wave::psf_chart(&title, &psf, half, log, &curve), out)?;
+    }
+    if let Some(path) = &args.exr {
+        write_exr(&psf, path)?;
+    }
+    if args.out.json {
+        print_json(&json!({
+            "method": psf.method.name(),
+            "field_deg": field_deg,
+            "wavelength_nm": w.wavelength_nm,
+            "image_plane": plane.name(),
+            "image_z": w.image_z,
+            "pupil_samples": w.grid.n,
+            "size": psf.size,
+            "pixel_x_mm": psf.pixel_mm.0,
+            "pixel_y_mm": psf.pixel_mm.1,
+            "strehl": s.strehl,
+            "peak": psf.peak(),
+            "centroid_mm": [centroid.0, centroid.1],
+            "chief_image": [w.chief_image.x, w.chief_image.y, w.chief_image.z],
+            "encircled_energy": {"radius_mm": radii, "fraction": ee},
+            "ensquared_energy": {"half_width_mm": radii, "fraction": sq},
+        }))?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    outln!(
+        "{} PSF at {} deg, {} nm, on {}: {} x {} pixels of {:.4e} x {:.4e} mm, pupil grid {}",
+        psf.method.name(),
+        lens::error::Fixed(field_deg),
+        w.wavelength_nm,
+        crate::args::describe_plane(plane, w.image_z),
+        psf.size,
+        psf.size,
+        psf.pixel_mm.0,
+        psf.pixel_mm.1,
+        w.grid.n
+    );
+    outln!("  Strehl ratio        {:.6} (peak found off-grid; the grid's largest pixel {:.6})", s.strehl, psf.peak());
+    outln!("  centroid            x {:+.4e}, y {:+.4e} mm from the chief ray's image point", centroid.0, centroid.1);
+    for target in [0.5, 0.8, 0.9] {
+        if let Some(r) = radii.iter().zip(&ee).find(|(_, f)| **f >= target).map(|(r, _)| r) {
+            outln!("  encircled {:>3.0}%      within {:.4e} mm of the centroid", target * 100.0, r);
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The PSF as a linear grey OpenEXR image, +y up.
+fn write_exr(psf: &Psf, path: &std::path::Path) -> Result<(), Box<dyn std::error::Error>> {
+    let n = psf.size;
+    let pixels = (0..n * n)
+        .map(|i| {
+            let (col, row) = (i % n, n - 1 - i / n);
+            lens::DVec3::splat(psf.intensity[row * n + col])
+        })
+        .collect();
+    render::image::Image { width: n, height: n, pixels }.save(path, 1.0)?;
+    Ok(())
+}

@@ -5,7 +5,7 @@
 use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::fan::ImagePlane;
-use lens::analysis::wave::mtf::{cutoffs, mtf, Mtf};
+use lens::analysis::wave::mtf::{cutoffs, mtf, polychromatic_mtf, Mtf};
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
 use lens::Prescription;
@@ -41,6 +41,11 @@ pub struct Args {
     /// -MM to +MM in 21 steps.
     #[arg(long, value_name = "MM")]
     through_focus: Option<f64>,
+    /// Every wavelength of the prescription with its weight
+    /// (`wavelength_weights`): their OTFs summed about the primary
+    /// wavelength's chief ray (lateral colour lowers it).
+    #[arg(long, conflicts_with = "wavelength_nm")]
+    polychromatic: bool,
     #[command(flatten)]
     out: JsonArgs,
     #[command(flatten)]
@@ -53,6 +58,8 @@ struct Setup<'a> {
     traced: &'a Prescription,
     first: FirstOrder,
     aim: lens::analysis::Aim,
+    /// (nm, weight) of each wavelength, for a polychromatic MTF.
+    waves: Option<Vec<(f64, f64)>>,
 }
 
 impl Setup<'_> {
@@ -61,7 +68,26 @@ impl Setup<'_> {
     }
 
     fn mtf(&self, deg: f64, plane: ImagePlane, freqs: &[f64]) -> Result<Mtf, lens::OpticsError> {
-        mtf(self.p, self.traced, &self.launcher(deg)?, plane, freqs)
+        self.mtf_with(&self.launcher(deg)?, plane, freqs)
+    }
+
+    /// The MTF of `launcher`'s field, monochromatic or polychromatic.
+    fn mtf_with(&self, launcher: &Launcher, plane: ImagePlane, freqs: &[f64]) -> Result<Mtf, lens::OpticsError> {
+        match &self.waves {
+            Some(w) => polychromatic_mtf(self.p, launcher, plane, freqs, w),
+            None => mtf(self.p, self.traced, launcher, plane, freqs),
+        }
+    }
+
+    /// How outputs name the light: one wavelength, or several with weights.
+    fn light(&self) -> String {
+        match &self.waves {
+            Some(w) => {
+                let list: Vec<String> = w.iter().map(|(nm, wt)| format!("{nm} (weight {wt})")).collect();
+                format!("{} nm", list.join(", "))
+            }
+            None => format!("{} nm", self.traced.wavelength_nm()),
+        }
     }
 }
 
@@ -74,7 +100,11 @@ pub fn run(args: Args) -> CmdResult {
     if args.frequencies.is_empty() {
         return Err("--frequencies: give at least one frequency in cycles/mm (e.g. 10,20,40)".into());
     }
-    let s = Setup { p: &p, traced: &traced, first: FirstOrder::of(&p)?, aim: args.aim.aim() };
+    let waves = args.polychromatic.then(|| p.wavelengths_nm().iter().copied().zip(p.wavelength_weights()).collect());
+    if args.polychromatic {
+        args.lens.catalogs.report(&p, p.wavelengths_nm())?;
+    }
+    let s = Setup { p: &p, traced: &traced, first: FirstOrder::of(&p)?, aim: args.aim.aim(), waves };
     let name = args.lens.name(&p);
     // the on-axis cutoff, 1 / (lambda N_w) from the real marginal ray
     let axis = s.launcher(0.0)?;
@@ -101,7 +131,7 @@ pub fn run(args: Args) -> CmdResult {
                 dashed: false,
             },
         ];
-        let title = format!("MTF: {name}, {} deg, {} nm", lens::error::Fixed(field_deg), m.wavelength_nm);
+        let title = format!("MTF: {name}, {} deg, {}", lens::error::Fixed(field_deg), s.light());
         let panel = format!(
             "cutoff T {:.0} c/mm, S {:.0} c/mm; on axis 1/(lambda N_w) = {:.0} c/mm",
             m.cutoff_tangential_per_mm, m.cutoff_sagittal_per_mm, axis_cutoff
@@ -112,6 +142,8 @@ pub fn run(args: Args) -> CmdResult {
         print_json(&json!({
             "field_deg": field_deg,
             "wavelength_nm": m.wavelength_nm,
+            "wavelengths_nm": s.waves.as_ref().map(|w| w.iter().map(|x| x.0).collect::<Vec<_>>()),
+            "wavelength_weights": s.waves.as_ref().map(|w| w.iter().map(|x| x.1).collect::<Vec<_>>()),
             "image_plane": plane.name(),
             "image_z": m.image_z,
             "frequencies_per_mm": m.frequencies_per_mm,
@@ -126,9 +158,9 @@ pub fn run(args: Args) -> CmdResult {
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "diffraction MTF at {} deg, {} nm, on {}",
+        "diffraction MTF at {} deg, {}, on {}",
         lens::error::Fixed(field_deg),
-        m.wavelength_nm,
+        s.light(),
         crate::args::describe_plane(plane, m.image_z)
     );
     outln!(
@@ -174,7 +206,7 @@ fn vs_field(args: &Args, s: &Setup, plane: ImagePlane, name: &str) -> CmdResult 
         let launcher = s.launcher(deg)?;
         let probe = lens::analysis::wave::opd::Probe::new(s.p, s.traced, &launcher, plane)?;
         heights.push(probe.chief_image().y);
-        let m = mtf(s.p, s.traced, &launcher, plane, freqs)?;
+        let m = s.mtf_with(&launcher, plane, freqs)?;
         for k in 0..freqs.len() {
             tan[k].push(m.tangential[k]);
             sag[k].push(m.sagittal[k]);
@@ -187,7 +219,7 @@ fn vs_field(args: &Args, s: &Setup, plane: ImagePlane, name: &str) -> CmdResult 
             curves.push(MtfCurve { label: format!("{f} c/mm T"), points: pts(&tan[k]), colour: k, dashed: false });
             curves.push(MtfCurve { label: format!("{f} c/mm S"), points: pts(&sag[k]), colour: k, dashed: true });
         }
-        let title = format!("MTF against image height: {name}, {} nm", s.traced.wavelength_nm());
+        let title = format!("MTF against image height: {name}, {}", s.light());
         plot::save(&mtf_chart(&title, "tangential solid, sagittal dashed", "image height (mm)", &curves), out)?;
     }
     if args.out.json {
@@ -202,7 +234,7 @@ fn vs_field(args: &Args, s: &Setup, plane: ImagePlane, name: &str) -> CmdResult 
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
-    outln!("MTF against image height, {} nm (rows: fields; T and S at each frequency)", s.traced.wavelength_nm());
+    outln!("MTF against image height, {} (rows: fields; T and S at each frequency)", s.light());
     let head: Vec<String> = freqs.iter().map(|f| format!("{f:>8} c/mm T, S")).collect();
     outln!("  {:>8}  {:>10}  {}", "deg", "height mm", head.join("  "));
     for (i, deg) in fields.iter().enumerate() {
@@ -232,7 +264,7 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
             )
             .into());
         }
-        let m = mtf(s.p, s.traced, &launcher, ImagePlane::Film(film), freqs)?;
+        let m = s.mtf_with(&launcher, ImagePlane::Film(film), freqs)?;
         for k in 0..freqs.len() {
             tan[k].push(m.tangential[k]);
             sag[k].push(m.sagittal[k]);
@@ -245,11 +277,8 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
             curves.push(MtfCurve { label: format!("{f} c/mm T"), points: pts(&tan[k]), colour: k, dashed: false });
             curves.push(MtfCurve { label: format!("{f} c/mm S"), points: pts(&sag[k]), colour: k, dashed: true });
         }
-        let title = format!(
-            "Through-focus MTF: {name}, {} deg, {} nm",
-            lens::error::Fixed(args.field.field_deg),
-            s.traced.wavelength_nm()
-        );
+        let title =
+            format!("Through-focus MTF: {name}, {} deg, {}", lens::error::Fixed(args.field.field_deg), s.light());
         plot::save(&mtf_chart(&title, "tangential solid, sagittal dashed", "focus shift (mm)", &curves), out)?;
     }
     if args.out.json {
@@ -265,9 +294,9 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "through-focus MTF at {} deg, {} nm, about z = {:.6} mm",
+        "through-focus MTF at {} deg, {}, about z = {:.6} mm",
         lens::error::Fixed(args.field.field_deg),
-        s.traced.wavelength_nm(),
+        s.light(),
         z0
     );
     let head: Vec<String> = freqs.iter().map(|f| format!("{f:>8} c/mm T, S")).collect();

@@ -113,8 +113,100 @@ pub fn mtf(
     plane: ImagePlane,
     frequencies: &[f64],
 ) -> Result<Mtf, OpticsError> {
-    let probe = Probe::new(p, traced, launcher, plane)?;
-    let (ct, cs) = cutoffs(p, traced, launcher, probe.image_z)?;
+    let o = otf(p, traced, launcher, plane, frequencies, true)?;
+    let norms = |v: &[Complex<f64>]| v.iter().map(|c| c.norm()).collect::<Vec<f64>>();
+    Ok(Mtf {
+        field: launcher.field(),
+        wavelength_nm: traced.wavelength_nm(),
+        image_z: o.image_z,
+        frequencies_per_mm: frequencies.to_vec(),
+        tangential: norms(&o.tangential),
+        sagittal: norms(&o.sagittal),
+        diffraction_limit_tangential: o.limit_tangential,
+        diffraction_limit_sagittal: o.limit_sagittal,
+        cutoff_tangential_per_mm: o.cutoffs.0,
+        cutoff_sagittal_per_mm: o.cutoffs.1,
+        nodes: o.nodes,
+    })
+}
+
+/// The polychromatic MTF of `launcher`'s field: each of `wavelengths`
+/// ((nm, weight) pairs) traced through `p` at that wavelength to the
+/// primary's `plane`, its OTF moved to the primary wavelength's chief-ray
+/// image point (times exp(-2 pi i nu d), d its own chief point's offset
+/// along the direction: lateral colour lowers the sum) and the OTFs summed
+/// with the weights over their sum; a wavelength contributes nothing beyond
+/// its own cutoff. The frequencies must lie above 0 and below the largest
+/// cutoff; the cutoffs reported are the largest over the wavelengths, and
+/// the diffraction limit the weighted sum of each wavelength's.
+pub fn polychromatic_mtf(
+    p: &Prescription,
+    launcher: &Launcher,
+    plane: ImagePlane,
+    frequencies: &[f64],
+    wavelengths: &[(f64, f64)],
+) -> Result<Mtf, OpticsError> {
+    let weight: f64 = wavelengths.iter().map(|w| w.1).sum();
+    let bad_weight = |w: f64| w.is_nan() || w < 0.0;
+    if wavelengths.is_empty() || !weight.is_finite() || weight <= 0.0 || wavelengths.iter().any(|w| bad_weight(w.1)) {
+        return Err(OpticsError::BadInput {
+            name: "wavelength weights",
+            value: weight,
+            expected: "at least one wavelength, weights of 0 or more with a positive sum",
+        });
+    }
+    let primary = Probe::new(p, p, launcher, plane)?.chief_image();
+    let mut parts = Vec::with_capacity(wavelengths.len());
+    for &(nm, w) in wavelengths {
+        let traced = p.at_wavelength(nm)?;
+        let o = otf(p, &traced, launcher, plane, frequencies, false)?;
+        parts.push((o, w));
+    }
+    let top = parts.iter().fold((0.0f64, 0.0f64), |m, (o, _)| (m.0.max(o.cutoffs.0), m.1.max(o.cutoffs.1)));
+    check_frequencies(frequencies, top.0.min(top.1))?;
+    let zero = Complex::new(0.0, 0.0);
+    let (mut t, mut s) = (vec![zero; frequencies.len()], vec![zero; frequencies.len()]);
+    let (mut lt, mut ls) = (vec![0.0; frequencies.len()], vec![0.0; frequencies.len()]);
+    for (o, w) in &parts {
+        let d = o.chief - primary;
+        for (k, &f) in frequencies.iter().enumerate() {
+            t[k] += o.tangential[k] * Complex::from_polar(*w, -TAU * f * d.y);
+            s[k] += o.sagittal[k] * Complex::from_polar(*w, -TAU * f * d.x);
+            lt[k] += w * o.limit_tangential[k];
+            ls[k] += w * o.limit_sagittal[k];
+        }
+    }
+    let image_z = parts.first().map_or(0.0, |(o, _)| o.image_z);
+    Ok(Mtf {
+        field: launcher.field(),
+        wavelength_nm: p.wavelength_nm(),
+        image_z,
+        frequencies_per_mm: frequencies.to_vec(),
+        tangential: t.iter().map(|c| c.norm() / weight).collect(),
+        sagittal: s.iter().map(|c| c.norm() / weight).collect(),
+        diffraction_limit_tangential: lt.iter().map(|v| v / weight).collect(),
+        diffraction_limit_sagittal: ls.iter().map(|v| v / weight).collect(),
+        cutoff_tangential_per_mm: top.0,
+        cutoff_sagittal_per_mm: top.1,
+        nodes: parts.iter().map(|(o, _)| o.nodes).max().unwrap_or(0),
+    })
+}
+
+/// One wavelength's OTF at a list of frequencies, about its own chief
+/// ray's image point.
+struct Otf {
+    tangential: Vec<Complex<f64>>,
+    sagittal: Vec<Complex<f64>>,
+    limit_tangential: Vec<f64>,
+    limit_sagittal: Vec<f64>,
+    cutoffs: (f64, f64),
+    nodes: usize,
+    image_z: f64,
+    chief: glam::DVec3,
+}
+
+/// Refuses frequencies not above 0, or (`below`) at or above a cutoff.
+fn check_frequencies(frequencies: &[f64], below: f64) -> Result<(), OpticsError> {
     for &f in frequencies {
         if !(f.is_finite() && f > 0.0) {
             return Err(OpticsError::BadInput {
@@ -123,7 +215,7 @@ pub fn mtf(
                 expected: "a frequency above 0",
             });
         }
-        if f >= ct.min(cs) {
+        if f >= below {
             return Err(OpticsError::BadInput {
                 name: "MTF frequency (cycles/mm)",
                 value: f,
@@ -131,15 +223,42 @@ pub fn mtf(
             });
         }
     }
-    // every (direction, normalised shift) asked, the shifts of both
-    let shifts: Vec<(Direction, f64)> = frequencies
-        .iter()
-        .flat_map(|&f| [(Direction::Tangential, 2.0 * f / ct), (Direction::Sagittal, 2.0 * f / cs)])
-        .collect();
+    Ok(())
+}
+
+/// The OTF of `launcher`'s field through `traced` at `frequencies`,
+/// refined until no value moves by [`TOLERANCE`]; `strict`: a frequency at
+/// or beyond a cutoff is refused, else its value there is 0.
+fn otf(
+    p: &Prescription,
+    traced: &Prescription,
+    launcher: &Launcher,
+    plane: ImagePlane,
+    frequencies: &[f64],
+    strict: bool,
+) -> Result<Otf, OpticsError> {
+    let probe = Probe::new(p, traced, launcher, plane)?;
+    let (ct, cs) = cutoffs(p, traced, launcher, probe.image_z)?;
+    check_frequencies(frequencies, if strict { ct.min(cs) } else { f64::INFINITY })?;
+    // every (direction, normalised shift) asked that lies inside the
+    // pupil's reach (index into the answers), the shifts of both
+    let mut asked: Vec<(Direction, f64)> = Vec::new();
+    let mut slot: Vec<Option<usize>> = Vec::new();
+    for &f in frequencies {
+        for (d, c) in [(Direction::Tangential, ct), (Direction::Sagittal, cs)] {
+            let s = 2.0 * f / c;
+            if s < 2.0 {
+                slot.push(Some(asked.len()));
+                asked.push((d, s));
+            } else {
+                slot.push(None);
+            }
+        }
+    }
     // the pupil's own integral (the zero shift) first, then each shift's;
     // their spans across the shift found once for every refinement
     let all: Vec<(Direction, f64)> =
-        std::iter::once((Direction::Tangential, 0.0)).chain(shifts.iter().copied()).collect();
+        std::iter::once((Direction::Tangential, 0.0)).chain(asked.iter().copied()).collect();
     let spans = across(&probe, &all)?;
     let mut nodes = FIRST_NODES;
     let mut last = transfer(&probe, &all, &spans, nodes)?;
@@ -148,7 +267,7 @@ pub fn mtf(
             break;
         }
         let next = transfer(&probe, &all, &spans, nodes * 2)?;
-        let moved = last.0.iter().zip(&next.0).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let moved = last.0.iter().zip(&next.0).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
         nodes *= 2;
         last = next;
         if moved < TOLERANCE {
@@ -156,24 +275,24 @@ pub fn mtf(
         }
     }
     let (values, limits) = last;
-    let pick = |v: &[f64], d: usize| v.iter().skip(d).step_by(2).copied().collect::<Vec<f64>>();
-    Ok(Mtf {
-        field: launcher.field(),
-        wavelength_nm: traced.wavelength_nm(),
-        image_z: probe.image_z,
-        frequencies_per_mm: frequencies.to_vec(),
-        tangential: pick(&values, 0),
-        sagittal: pick(&values, 1),
-        diffraction_limit_tangential: pick(&limits, 0),
-        diffraction_limit_sagittal: pick(&limits, 1),
-        cutoff_tangential_per_mm: ct,
-        cutoff_sagittal_per_mm: cs,
+    let zero = Complex::new(0.0, 0.0);
+    let pick = |d: usize| slot.iter().skip(d).step_by(2).map(|k| k.map_or(zero, |k| values[k])).collect::<Vec<_>>();
+    let pick_limit =
+        |d: usize| slot.iter().skip(d).step_by(2).map(|k| k.map_or(0.0, |k| limits[k])).collect::<Vec<_>>();
+    Ok(Otf {
+        tangential: pick(0),
+        sagittal: pick(1),
+        limit_tangential: pick_limit(0),
+        limit_sagittal: pick_limit(1),
+        cutoffs: (ct, cs),
         nodes,
+        image_z: probe.image_z,
+        chief: probe.chief_image(),
     })
 }
 
-/// The MTF at each (direction, normalised shift) of `all` but the first
-/// (the zero shift, the pupil's own integral) and the same pupil's without
+/// The OTF at each (direction, normalised shift) of `all` but the first
+/// (the zero shift, the pupil's own integral) and the same pupil's MTF without
 /// aberration, with `n` chords across each overlap (over its span across,
 /// `spans`) and `n` nodes along each chord's passing part.
 ///
@@ -189,7 +308,7 @@ fn transfer(
     all: &[(Direction, f64)],
     spans: &[(f64, f64)],
     n: usize,
-) -> Result<(Vec<f64>, Vec<f64>), OpticsError> {
+) -> Result<(Vec<Complex<f64>>, Vec<f64>), OpticsError> {
     let (phis, wphi) = gauss_legendre(n, -FRAC_PI_2, FRAC_PI_2);
     let mut chords = Vec::with_capacity(all.len() * n);
     for (k, &(d, s)) in all.iter().enumerate() {
@@ -241,7 +360,7 @@ fn transfer(
             why: format!("every ray of the pupil is vignetted at {}", probe.field().describe()),
         });
     }
-    let values = sums[1..].iter().map(|v| v.norm() / pupil).collect();
+    let values = sums[1..].iter().map(|v| v / pupil).collect();
     let limits = areas[1..].iter().map(|a| a / pupil).collect();
     Ok((values, limits))
 }

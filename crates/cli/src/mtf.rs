@@ -5,7 +5,7 @@
 use crate::args::{parse_list, AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::fan::ImagePlane;
-use lens::analysis::wave::mtf::{cutoffs, mtf, polychromatic_mtf, Mtf};
+use lens::analysis::wave::mtf::{cutoffs, geometric_mtf, mtf, polychromatic_mtf, Mtf};
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
 use lens::Prescription;
@@ -46,11 +46,22 @@ pub struct Args {
     /// wavelength's chief ray (lateral colour lowers it).
     #[arg(long, conflicts_with = "wavelength_nm")]
     polychromatic: bool,
+    /// Also the geometric MTF, from the spot diagram's rays (48 Gauss
+    /// rings): the Fourier transform of the ray density about its centroid.
+    #[arg(long)]
+    geometric: bool,
+    /// With --geometric: times the same pupil's diffraction-limited MTF
+    /// (Zemax's "scale by diffraction limit").
+    #[arg(long, requires = "geometric")]
+    scale_by_diffraction: bool,
     #[command(flatten)]
     out: JsonArgs,
     #[command(flatten)]
     plot: PlotArgs,
 }
+
+/// Tangential and sagittal values at each frequency.
+type TandS = (Vec<f64>, Vec<f64>);
 
 /// What every MTF of the command shares.
 struct Setup<'a> {
@@ -116,12 +127,30 @@ pub fn run(args: Args) -> CmdResult {
         return through_focus(&args, &s, plane, range, &name);
     }
     let m = s.mtf(field_deg, plane, &args.frequencies)?;
+    let geometric = |freqs: &[f64], limit: (&[f64], &[f64])| -> Result<Option<TandS>, lens::OpticsError> {
+        if !args.geometric {
+            return Ok(None);
+        }
+        let launcher = s.launcher(field_deg)?;
+        let pattern = lens::analysis::pattern::Pattern::Gauss;
+        let spot = match &s.waves {
+            Some(w) => lens::analysis::spot::spot_polychromatic(s.p, &launcher, pattern, 48, plane, w)?,
+            None => lens::analysis::spot::spot_traced(s.p, s.traced, &launcher, pattern, 48, plane)?,
+        };
+        let Some((mut t, mut g)) = geometric_mtf(&spot, freqs) else { return Ok(None) };
+        if args.scale_by_diffraction {
+            t.iter_mut().zip(limit.0).for_each(|(v, l)| *v *= l);
+            g.iter_mut().zip(limit.1).for_each(|(v, l)| *v *= l);
+        }
+        Ok(Some((t, g)))
+    };
+    let geo = geometric(&args.frequencies, (&m.diffraction_limit_tangential, &m.diffraction_limit_sagittal))?;
     if let Some(out) = &args.plot.plot {
         let top = m.cutoff_tangential_per_mm.min(m.cutoff_sagittal_per_mm);
         let freqs: Vec<f64> = (1..60).map(|k| top * k as f64 / 60.0).collect();
         let curve = s.mtf(field_deg, plane, &freqs)?;
         let pts = |v: &[f64]| std::iter::once((0.0, 1.0)).chain(freqs.iter().copied().zip(v.iter().copied())).collect();
-        let curves = vec![
+        let mut curves = vec![
             MtfCurve { label: "tangential".into(), points: pts(&curve.tangential), colour: 0, dashed: false },
             MtfCurve { label: "sagittal".into(), points: pts(&curve.sagittal), colour: 1, dashed: true },
             MtfCurve {
@@ -131,6 +160,12 @@ pub fn run(args: Args) -> CmdResult {
                 dashed: false,
             },
         ];
+        if let Some((gt, gs)) =
+            geometric(&freqs, (&curve.diffraction_limit_tangential, &curve.diffraction_limit_sagittal))?
+        {
+            curves.push(MtfCurve { label: "geometric T".into(), points: pts(&gt), colour: 2, dashed: false });
+            curves.push(MtfCurve { label: "geometric S".into(), points: pts(&gs), colour: 3, dashed: true });
+        }
         let title = format!("MTF: {name}, {} deg, {}", lens::error::Fixed(field_deg), s.light());
         let panel = format!(
             "cutoff T {:.0} c/mm, S {:.0} c/mm; on axis 1/(lambda N_w) = {:.0} c/mm",
@@ -154,6 +189,11 @@ pub fn run(args: Args) -> CmdResult {
             "cutoff_sagittal_per_mm": m.cutoff_sagittal_per_mm,
             "diffraction_limit": {"tangential": m.diffraction_limit_tangential, "sagittal": m.diffraction_limit_sagittal},
             "quadrature_nodes": m.nodes,
+            "geometric": geo.as_ref().map(|(t, g)| json!({
+                "tangential": t,
+                "sagittal": g,
+                "scaled_by_diffraction_limit": args.scale_by_diffraction,
+            })),
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -171,8 +211,9 @@ pub fn run(args: Args) -> CmdResult {
     );
     outln!("  {:>10}  {:>10}  {:>10}  {:>22}", "c/mm", "tangential", "sagittal", "diffraction limit T, S");
     for (i, f) in m.frequencies_per_mm.iter().enumerate() {
+        let g = geo.as_ref().map_or(String::new(), |(t, g)| format!("   geometric {:.6}, {:.6}", t[i], g[i]));
         outln!(
-            "  {:>10.3}  {:>10.6}  {:>10.6}  {:>10.6}, {:>10.6}",
+            "  {:>10.3}  {:>10.6}  {:>10.6}  {:>10.6}, {:>10.6}{g}",
             f,
             m.tangential[i],
             m.sagittal[i],

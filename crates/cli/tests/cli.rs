@@ -530,6 +530,23 @@ fn mtf_json_has_the_contract_keys_and_refuses_bad_frequencies() {
         assert_eq!(code, 1, "{bad}");
         assert!(err.contains("frequency"), "{bad}: {err}");
     }
+    // the geometric MTF of a badly aberrated field is near the diffraction one
+    let (code, out, err) = lens(&[
+        "mtf",
+        "lens-data/double-gauss-50mm.json",
+        "--field-deg",
+        "10",
+        "--frequencies",
+        "10",
+        "--geometric",
+        "--polychromatic",
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    assert_eq!(v["wavelengths_nm"].as_array().unwrap().len(), 3);
+    let (g, d) = (v["geometric"]["tangential"][0].as_f64().unwrap(), v["tangential"][0].as_f64().unwrap());
+    assert!((g - d).abs() < 0.05, "geometric {g} against diffraction {d}");
     let (code, out, err) =
         lens(&["mtf", "lens-data/double-gauss-50mm.json", "--vs-field", "--frequencies", "10,30", "--json"]);
     assert_eq!(code, 0, "{err}");

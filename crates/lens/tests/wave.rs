@@ -337,3 +337,36 @@ fn a_polychromatic_mtf_is_the_weighted_sum_of_the_wavelengths_otfs() {
     let mono = mtf(&p, &p, &launcher, ImagePlane::ImageSurface, &freqs[..3]).unwrap();
     assert_eq!(one.tangential, mono.tangential);
 }
+
+/// A geometric MTF of a known spot.
+#[test]
+fn the_geometric_mtf_of_a_uniform_disk_spot_is_its_closed_form() {
+    use lens::analysis::pattern::Pattern;
+    use lens::analysis::spot::spot_diagram;
+    use lens::analysis::wave::mtf::geometric_mtf;
+    // a defocused stigmatic surface: the spot is a uniform disk of radius
+    // rho, whose line spread along y is (2 / (pi rho)) sqrt(1 - (y/rho)^2):
+    // its MTF 2 J1(2 pi nu rho) / (2 pi nu rho)
+    let (p, _, _) = ellipsoid(1.0, 0.5);
+    let spot =
+        spot_diagram(&p, Field::Angle(0.0), Pattern::Gauss, 60, Aim::Paraxial, ImagePlane::ImageSurface).unwrap();
+    let rho = spot.geo_radius;
+    let freqs = [10.0, 30.0, 50.0, 80.0];
+    let (t, s) = geometric_mtf(&spot, &freqs).unwrap();
+    // J1 by its series, enough terms for these arguments
+    let j1 = |x: f64| {
+        let mut sum = 0.0;
+        let mut term = x / 2.0;
+        for k in 0..40 {
+            sum += term;
+            term *= -(x * x / 4.0) / ((k + 1) as f64 * (k + 2) as f64);
+        }
+        sum
+    };
+    for (k, nu) in freqs.iter().enumerate() {
+        let x = std::f64::consts::TAU * nu * rho;
+        let want = (2.0 * j1(x) / x).abs();
+        println!("{nu} c/mm: T {:.5} S {:.5}, uniform disk of radius {rho:.5} mm: {want:.5}", t[k], s[k]);
+        assert!((t[k] - want).abs() < 5e-3 && (s[k] - want).abs() < 5e-3);
+    }
+}

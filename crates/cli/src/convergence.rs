@@ -3,7 +3,7 @@
 
 use crate::args::LensArgs;
 use crate::CmdResult;
-use lens::analysis::convergence::{coc_rms, spot_rms, Convergence};
+use lens::analysis::convergence::{coc_rms, spot_rms, wave_statistics, Convergence};
 use lens::analysis::Field;
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -22,6 +22,10 @@ pub struct Args {
     /// Object distance S2 of the circle-of-confusion statistic, mm.
     #[arg(long, default_value_t = 1000.0)]
     object_mm: f64,
+    /// Field angle of the wave statistics (RMS wavefront error, Strehl,
+    /// Zernike defocus), degrees.
+    #[arg(long, default_value_t = 0.0)]
+    wave_field_deg: f64,
     /// Write the report here (markdown) instead of standard output.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -29,8 +33,10 @@ pub struct Args {
 
 fn table(out: &mut String, c: &Convergence) {
     let _ = writeln!(out, "### {}\n", c.statistic);
-    let _ = writeln!(out, "Reference: {:.9e} mm ({}).\n", c.reference, c.reference_method);
-    let _ = writeln!(out, "| method | rays | time (ms) | estimate (mm) | error (mm) | relative error |");
+    let unit = if c.unit.is_empty() { String::new() } else { format!(" {}", c.unit) };
+    let paren = if c.unit.is_empty() { String::new() } else { format!(" ({})", c.unit) };
+    let _ = writeln!(out, "Reference: {:.9e}{unit} ({}).\n", c.reference, c.reference_method);
+    let _ = writeln!(out, "| method | rays | time (ms) | estimate{paren} | error{paren} | relative error |");
     let _ = writeln!(out, "|---|---:|---:|---:|---:|---:|");
     for r in &c.rows {
         let _ = writeln!(
@@ -56,6 +62,9 @@ pub fn run(a: Args) -> CmdResult {
     let _ = writeln!(out, "## {}\n", a.lens.name(&p));
     table(&mut out, &spot);
     table(&mut out, &coc);
+    for c in wave_statistics(&p, Field::Angle(a.wave_field_deg))? {
+        table(&mut out, &c);
+    }
     match a.output {
         Some(path) => lens::io::files::write_bytes_atomic(&path, out.as_bytes())
             .map_err(|e| format!("{}: cannot write: {e}", path.display()))?,

@@ -23,9 +23,9 @@ pub struct ConvergenceRow {
     pub rays: usize,
     /// Wall time, seconds.
     pub seconds: f64,
-    /// The estimate, mm.
+    /// The estimate, in the statistic's unit.
     pub estimate: f64,
-    /// |estimate - reference|, mm.
+    /// |estimate - reference|, in the statistic's unit.
     pub error: f64,
 }
 
@@ -34,6 +34,8 @@ pub struct ConvergenceRow {
 pub struct Convergence {
     /// What is estimated.
     pub statistic: String,
+    /// Its unit ("mm", "waves", or "" for a ratio).
+    pub unit: String,
     /// The dense reference and how it was obtained.
     pub reference: f64,
     /// How the reference was computed.
@@ -75,6 +77,7 @@ pub fn spot_rms(p: &Prescription, field: Field) -> Result<Convergence, OpticsErr
     }
     Ok(Convergence {
         statistic: format!("RMS spot radius at {}, paraxial image plane", field.describe()),
+        unit: "mm".into(),
         reference,
         reference_method: "Gauss-Legendre rings, 1024 rings of 4100 points".into(),
         rows,
@@ -108,9 +111,65 @@ pub fn coc_rms(p: &Prescription, s1: f64, s2: f64) -> Result<Convergence, Optics
         });
     }
     Ok(Convergence {
+        unit: "mm".into(),
         statistic: format!("RMS blur diameter of an object at {s2} mm, focused at {s1} mm"),
         reference,
         reference_method: "Gauss-Legendre, 512 rings".into(),
         rows,
     })
+}
+
+/// The wave statistics at `field` on the prescription's image surface
+/// against the pupil grid's width (16 to 512 samples across), each against
+/// the 1024 grid: RMS to chief (waves), the Strehl ratio, and the Standard
+/// Zernike defocus term Z4 (waves). A grid too coarse for the wavefront
+/// (more than half a wave between samples) is left out, as the analyses
+/// refuse it.
+pub fn wave_statistics(p: &Prescription, field: Field) -> Result<Vec<Convergence>, OpticsError> {
+    use super::wave::{stats, wavefront, zernike};
+    let launcher = super::Launcher::new(p, field, Aim::Paraxial)?;
+    let run = |n: usize| -> Result<Option<(usize, f64, [f64; 3])>, OpticsError> {
+        let t = Instant::now();
+        let w = match wavefront(p, p, &launcher, n, ImagePlane::ImageSurface) {
+            Ok(w) => w,
+            Err(OpticsError::PupilUndersampled { .. }) => return Ok(None),
+            Err(e) => return Err(e),
+        };
+        let s = stats(&w);
+        let z4 =
+            zernike::fit(&w, zernike::ZernikeKind::Standard, zernike::TERMS).map_or(f64::NAN, |f| f.coefficients[3]);
+        Ok(Some((w.opd_waves.len(), t.elapsed().as_secs_f64(), [s.rms_to_chief, s.strehl, z4])))
+    };
+    let (_, _, reference) = run(1024)?.ok_or(OpticsError::BadInput {
+        name: "pupil grid",
+        value: 1024.0,
+        expected: "a wavefront that 1024 samples across resolve (within half a wave between neighbours)",
+    })?;
+    let mut rows: [Vec<ConvergenceRow>; 3] = Default::default();
+    for n in [16, 32, 64, 128, 256, 512] {
+        let Some((rays, seconds, estimate)) = run(n)? else { continue };
+        let default = if n == super::wave::DEFAULT_GRID { " (the default)" } else { "" };
+        for k in 0..3 {
+            rows[k].push(ConvergenceRow {
+                method: format!("grid {n}{default}"),
+                rays,
+                seconds,
+                estimate: estimate[k],
+                error: (estimate[k] - reference[k]).abs(),
+            });
+        }
+    }
+    let [rms, strehl, z4] = rows;
+    let named = |name: &str, unit: &str, k: usize, rows: Vec<ConvergenceRow>| Convergence {
+        statistic: format!("{name} at {}, image surface", field.describe()),
+        unit: unit.into(),
+        reference: reference[k],
+        reference_method: "the 1024 x 1024 pupil grid".into(),
+        rows,
+    };
+    Ok(vec![
+        named("RMS wavefront error (to chief)", "waves", 0, rms),
+        named("Strehl ratio", "", 1, strehl),
+        named("Standard Zernike Z4 (defocus)", "waves", 2, z4),
+    ])
 }

@@ -4,7 +4,7 @@
 use crate::args::{AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::wave::mtf::cutoffs;
-use lens::analysis::wave::psf::{fft_psf, huygens_psf, Psf};
+use lens::analysis::wave::psf::{fft_psf, huygens_psf, polychromatic_psf, Psf};
 use lens::analysis::wave::{stats, wavefront, wavefront_auto};
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
@@ -53,6 +53,12 @@ pub struct Args {
     /// peak, +y up) as an OpenEXR file.
     #[arg(long, value_name = "OUT.exr")]
     exr: Option<PathBuf>,
+    /// Every wavelength of the prescription with its weight
+    /// (`wavelength_weights`): their PSFs (FFT method, each normalised to
+    /// its own aberration-free peak) summed on the primary wavelength's
+    /// grid about its chief ray.
+    #[arg(long, conflicts_with = "wavelength_nm")]
+    polychromatic: bool,
     #[command(flatten)]
     out: JsonArgs,
     #[command(flatten)]
@@ -80,7 +86,26 @@ pub fn run(args: Args) -> CmdResult {
     };
     let s = stats(&w);
     let (ct, cs) = cutoffs(&p, &traced, &launcher, w.image_z)?;
+    if args.polychromatic && matches!(args.method, MethodArg::Huygens) {
+        return Err("--polychromatic sums FFT (Fraunhofer) images on one grid; leave out --method huygens".into());
+    }
     let psf = match args.method {
+        MethodArg::Fft if args.polychromatic => {
+            args.lens.catalogs.report(&p, p.wavelengths_nm())?;
+            let mut parts = Vec::new();
+            for (nm, weight) in p.wavelengths_nm().iter().copied().zip(p.wavelength_weights()) {
+                let at = p.at_wavelength(nm)?;
+                // each wavelength on the primary's grid: its own wavefront
+                // fine enough for it
+                let wl = wavefront(&p, &at, &launcher, w.grid.n, plane)
+                    .or_else(|_| wavefront_auto(&p, &at, &launcher, plane))?;
+                let c = cutoffs(&p, &at, &launcher, w.image_z)?;
+                parts.push((wl, c, weight));
+            }
+            let refs: Vec<_> = parts.iter().map(|(wl, c, weight)| (wl, *c, *weight)).collect();
+            let size = args.pad * w.grid.n;
+            polychromatic_psf(&refs, size, (1.0 / (args.pad as f64 * cs), 1.0 / (args.pad as f64 * ct)), w.chief_image)
+        }
         MethodArg::Fft => fft_psf(&w, (ct, cs), args.pad),
         MethodArg::Huygens => {
             huygens_psf(&w, args.pixels, (1.0 / (args.pad as f64 * cs), 1.0 / (args.pad as f64 * ct)), (ct, cs))
@@ -96,13 +121,12 @@ pub fn run(args: Args) -> CmdResult {
         // crop to where the encircled energy reaches 99%, at least 16 pixels
         let r99 = radii.iter().zip(&ee).find(|(_, f)| **f >= 0.99).map_or(reach, |(r, _)| *r);
         let half = ((r99 / psf.pixel_mm.0.min(psf.pixel_mm.1)).ceil() as usize).clamp(16, psf.size / 2);
-        let title = format!(
-            "PSF: {}, {} deg, {} nm, Strehl {:.4}",
-            args.lens.name(&p),
-            lens::error::Fixed(field_deg),
-            w.wavelength_nm,
-            s.strehl
-        );
+        let light = if args.polychromatic {
+            format!("{} wavelengths", p.wavelengths_nm().len())
+        } else {
+            format!("{} nm, Strehl {:.4}", w.wavelength_nm, s.strehl)
+        };
+        let title = format!("PSF: {}, {} deg, {light}", args.lens.name(&p), lens::error::Fixed(field_deg));
         let curve: Vec<(f64, f64)> =
             std::iter::once((0.0, 0.0)).chain(radii.iter().copied().zip(ee.iter().copied())).collect();
         let log = (!args.linear).then_some(4.0);
@@ -116,6 +140,8 @@ pub fn run(args: Args) -> CmdResult {
             "method": psf.method.name(),
             "field_deg": field_deg,
             "wavelength_nm": w.wavelength_nm,
+            "wavelengths_nm": args.polychromatic.then(|| p.wavelengths_nm().to_vec()),
+            "wavelength_weights": args.polychromatic.then(|| p.wavelength_weights()),
             "image_plane": plane.name(),
             "image_z": w.image_z,
             "pupil_samples": w.grid.n,
@@ -123,6 +149,7 @@ pub fn run(args: Args) -> CmdResult {
             "pixel_x_mm": psf.pixel_mm.0,
             "pixel_y_mm": psf.pixel_mm.1,
             "strehl": s.strehl,
+            "strehl_wavelength_nm": w.wavelength_nm,
             "peak": psf.peak(),
             "centroid_mm": [centroid.0, centroid.1],
             "chief_image": [w.chief_image.x, w.chief_image.y, w.chief_image.z],
@@ -143,7 +170,20 @@ pub fn run(args: Args) -> CmdResult {
         psf.pixel_mm.1,
         w.grid.n
     );
-    outln!("  Strehl ratio        {:.6} (peak found off-grid; the grid's largest pixel {:.6})", s.strehl, psf.peak());
+    if args.polychromatic {
+        outln!(
+            "  peak                {:.6} of the wavelengths' aberration-free peaks (Strehl ratio at {} nm: {:.6})",
+            psf.peak(),
+            w.wavelength_nm,
+            s.strehl
+        );
+    } else {
+        outln!(
+            "  Strehl ratio        {:.6} (peak found off-grid; the grid's largest pixel {:.6})",
+            s.strehl,
+            psf.peak()
+        );
+    }
     outln!("  centroid            x {:+.4e}, y {:+.4e} mm from the chief ray's image point", centroid.0, centroid.1);
     for target in [0.5, 0.8, 0.9] {
         if let Some(r) = radii.iter().zip(&ee).find(|(_, f)| **f >= target).map(|(r, _)| r) {

@@ -370,3 +370,51 @@ fn the_geometric_mtf_of_a_uniform_disk_spot_is_its_closed_form() {
         assert!((t[k] - want).abs() < 5e-3 && (s[k] - want).abs() < 5e-3);
     }
 }
+
+#[test]
+fn the_matrix_fourier_psf_is_the_fft_on_its_grid_and_sums_wavelengths() {
+    use lens::analysis::wave::mtf::cutoffs;
+    use lens::analysis::wave::psf::{fft_psf, huygens_psf, mft_psf, polychromatic_psf};
+    let (p, _, _) = ellipsoid(3.0, 0.045);
+    let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+    let w = wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+    let c = cutoffs(&p, &p, &launcher, w.image_z).unwrap();
+    let fft = fft_psf(&w, c, 4);
+    let mft = mft_psf(&w, c, fft.size, fft.pixel_mm, (0.0, 0.0));
+    let worst = fft.intensity.iter().zip(&mft.intensity).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    println!("MFT against FFT on its grid: largest difference {worst:.2e}; totals {} and {}", fft.total, mft.total);
+    assert!(worst < 1e-10 && (fft.total - mft.total).abs() < 1e-9 * fft.total);
+    // two wavelengths (a constant index: the same wavefront in length, so
+    // the waves and the cutoffs scale with 1 / lambda): the weighted sum of
+    // each one's Huygens image on the common grid
+    let waves = [(500.0, 1.0), (650.0, 3.0)];
+    let parts: Vec<_> = waves
+        .iter()
+        .map(|&(nm, wt)| {
+            let q = p.at_wavelength(nm).unwrap();
+            let w = wavefront(&p, &q, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+            let c = cutoffs(&p, &q, &launcher, w.image_z).unwrap();
+            (w, c, wt)
+        })
+        .collect();
+    let refs: Vec<_> = parts.iter().map(|(w, c, wt)| (w, *c, *wt)).collect();
+    let pixel = (fft.pixel_mm.0, fft.pixel_mm.1);
+    let poly = polychromatic_psf(&refs, 33, pixel, w.chief_image);
+    let mut worst: f64 = 0.0;
+    let sum: Vec<f64> = {
+        let mut acc = vec![0.0; 33 * 33];
+        for (w, c, wt) in &parts {
+            let h = huygens_psf(w, 33, pixel, *c);
+            acc.iter_mut().zip(&h.intensity).for_each(|(a, b)| *a += wt * b / 4.0);
+        }
+        acc
+    };
+    for (a, b) in poly.intensity.iter().zip(&sum) {
+        worst = worst.max((a - b).abs());
+    }
+    println!(
+        "polychromatic MFT against the weighted Huygens images: largest difference {worst:.2e}, centre {:.5}",
+        poly.intensity[16 * 33 + 16]
+    );
+    assert!(worst < 3e-3);
+}

@@ -418,3 +418,43 @@ fn the_matrix_fourier_psf_is_the_fft_on_its_grid_and_sums_wavelengths() {
     );
     assert!(worst < 3e-3);
 }
+
+/// A slow plano-convex singlet on axis at its paraxial image plane: the
+/// wavefront's rho^4 term is the Seidel W040 = S_I / 8.
+#[test]
+fn a_slow_singlets_spherical_aberration_is_its_seidel_sum() {
+    use lens::analysis::aperture::with_f_number;
+    use lens::paraxial::seidel::seidel;
+    use lens::paraxial::{FirstOrder, ObjectDistance};
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../lens-data/plano-convex-singlet.json");
+    let full = Prescription::load(std::path::Path::new(path)).unwrap();
+    for f_number in [20.0, 12.0] {
+        let p = with_f_number(&full, f_number).unwrap();
+        let first = FirstOrder::of(&p).unwrap();
+        let s = seidel(&p, &first, ObjectDistance::Infinity, 0.0).unwrap();
+        let lambda = p.wavelength_nm() * 1e-6;
+        let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+        let w = wavefront(&p, &p, &launcher, 64, ImagePlane::Paraxial).unwrap();
+        // least squares W = a + b rho^2 + c rho^4 + d rho^6
+        let mut ata = [[0.0f64; 4]; 4];
+        let mut atb = [0.0f64; 4];
+        for ((x, y), wt, v) in w.passing() {
+            let r2 = x * x + y * y;
+            let t = [1.0, r2, r2 * r2, r2 * r2 * r2];
+            for i in 0..4 {
+                atb[i] += wt * t[i] * v;
+                for j in 0..4 {
+                    ata[i][j] += wt * t[i] * t[j];
+                }
+            }
+        }
+        let m = nalgebra::Matrix4::from_fn(|i, j| ata[i][j]);
+        let c = m.lu().solve(&nalgebra::Vector4::from(atb)).unwrap();
+        let seidel_waves = s.w040() / lambda;
+        println!(
+            "f/{f_number}: rho^4 term {:.6} waves, Seidel W040 = S_I/8 = {seidel_waves:.6} waves; rho^2 term {:.2e}, rho^6 {:.2e}",
+            c[2], c[1], c[3]
+        );
+        assert!((c[2] - seidel_waves).abs() < 1e-3 * seidel_waves.abs(), "{} against {seidel_waves}", c[2]);
+    }
+}

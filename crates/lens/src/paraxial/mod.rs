@@ -9,6 +9,7 @@
 pub mod first_order;
 pub mod focus;
 pub mod imaging;
+pub mod seidel;
 
 pub use first_order::{FirstOrder, Pupil};
 pub use focus::{film_distance, film_for_focus_from_film, object_distance_in_focus};

@@ -458,3 +458,117 @@ fn a_slow_singlets_spherical_aberration_is_its_seidel_sum() {
         assert!((c[2] - seidel_waves).abs() < 1e-3 * seidel_waves.abs(), "{} against {seidel_waves}", c[2]);
     }
 }
+
+/// An ideal lens (`"type": "paraxial"`) of focal length f with its stop
+/// at the lens, the film `dz` beyond the focal plane.
+fn ideal(f: f64, sd: f64, dz: f64) -> Prescription {
+    let json = format!(
+        r#"{{"surfaces": [{{"type": "paraxial", "focal_length_mm": {f}, "thickness": {t}, "semi_diameter": {sd}, "stop": true}}]}}"#,
+        t = f + dz
+    );
+    Prescription::from_json_str(&json, "<test>").unwrap()
+}
+
+#[test]
+fn the_ideal_lens_is_perfect_on_and_off_axis() {
+    use lens::analysis::wave::mtf::{diffraction_limited, mtf};
+    let p = ideal(100.0, 2.5, 0.0);
+    let first = lens::paraxial::FirstOrder::of(&p).unwrap();
+    assert!((first.efl - 100.0).abs() < 1e-12, "EFL {}", first.efl);
+    for deg in [0.0, 5.0, 20.0] {
+        let launcher = Launcher::new(&p, Field::Angle(deg), Aim::Paraxial).unwrap();
+        let w = wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap();
+        let worst = w.opd_waves.iter().flatten().map(|v| v.abs()).fold(0.0, f64::max);
+        let s = stats(&w);
+        let m = mtf(&p, &p, &launcher, ImagePlane::ImageSurface, &[10.0, 40.0]).unwrap();
+        let want = |nu: f64, c: f64| diffraction_limited(nu / c);
+        println!(
+            "{deg} deg: largest |W| {worst:.2e} waves, Strehl {:.9}, MTF T {:.6} / {:.6} (closed form {:.6} / {:.6}), chief at y = {:.9} (f tan = {:.9})",
+            s.strehl,
+            m.tangential[0],
+            m.tangential[1],
+            want(10.0, m.cutoff_tangential_per_mm),
+            want(40.0, m.cutoff_tangential_per_mm),
+            w.chief_image.y,
+            100.0 * deg.to_radians().tan()
+        );
+        assert!(worst < 1e-6, "{worst}");
+        assert!((s.strehl - 1.0).abs() < 1e-9);
+        assert!((w.chief_image.y - 100.0 * deg.to_radians().tan()).abs() < 1e-9);
+        for (k, nu) in [10.0, 40.0].iter().enumerate() {
+            assert!((m.tangential[k] - want(*nu, m.cutoff_tangential_per_mm)).abs() < 2e-4);
+            assert!((m.sagittal[k] - want(*nu, m.cutoff_sagittal_per_mm)).abs() < 2e-4);
+        }
+    }
+    // defocus dz on a slow cone: W020 = dz / (8 N^2), N = f / D = 20, to
+    // first order in dz (the next term, dz^2 u^2 / (2 (f + dz)), is dz / f
+    // of it: 0.1% here) and the grid's quadrature (0.1%)
+    let dz = 0.1;
+    let p = ideal(100.0, 2.5, dz);
+    let launcher = Launcher::new(&p, Field::Angle(0.0), Aim::Paraxial).unwrap();
+    let s = stats(&wavefront(&p, &p, &launcher, 64, ImagePlane::ImageSurface).unwrap());
+    let w020 = dz / (8.0 * 20.0 * 20.0) / (p.wavelength_nm() * 1e-6);
+    println!(
+        "defocus {dz} mm at f/20: RMS to centroid {:.6} waves, W020/sqrt(12) = {:.6}",
+        s.rms_to_centroid,
+        w020 / 12f64.sqrt()
+    );
+    assert!((s.rms_to_centroid - w020 / 12f64.sqrt()).abs() < 3e-3 * w020 / 12f64.sqrt());
+}
+
+#[test]
+fn an_ideal_surface_is_refused_where_it_cannot_be() {
+    let bad = |surface: &str| {
+        let json = format!(r#"{{"surfaces": [{surface}]}}"#);
+        Prescription::from_json_str(&json, "<test>").unwrap_err().to_string()
+    };
+    let e = bad(r#"{"type": "paraxial", "thickness": 100, "semi_diameter": 2, "stop": true}"#);
+    assert!(e.contains("focal_length_mm"), "{e}");
+    let e = bad(r#"{"type": "paraxial", "focal_length_mm": 0, "thickness": 100, "semi_diameter": 2, "stop": true}"#);
+    assert!(e.contains("not 0"), "{e}");
+    let e = bad(
+        r#"{"type": "paraxial", "focal_length_mm": 50, "radius": 40, "thickness": 100, "semi_diameter": 2, "stop": true}"#,
+    );
+    assert!(e.contains("plane"), "{e}");
+    let e = bad(
+        r#"{"type": "paraxial", "focal_length_mm": 50, "ior": 1.5, "thickness": 100, "semi_diameter": 2, "stop": true}"#,
+    );
+    assert!(e.contains("same medium"), "{e}");
+    let e = bad(r#"{"type": "mirror", "thickness": 100, "semi_diameter": 2, "stop": true}"#);
+    assert!(e.contains("not a surface type"), "{e}");
+    let e = bad(r#"{"focal_length_mm": 50, "thickness": 100, "semi_diameter": 2, "stop": true}"#);
+    assert!(e.contains("paraxial"), "{e}");
+}
+
+#[test]
+fn the_batch_and_one_ray_paths_agree_on_an_ideal_lens_and_the_zemax_file_keeps_it() {
+    use lens::{DVec3, Outcome, Ray, RayBatch, Tracer};
+    let p = ideal(-80.0, 3.0, 180.0);
+    // a diverging ideal lens: rays of every slope, both tracers
+    let t = Tracer::forward(&p);
+    let rays: Vec<Ray> = (0..200)
+        .map(|k| {
+            let (a, b) = ((k % 20) as f64 / 19.0 - 0.5, (k / 20) as f64 / 9.0 - 0.5);
+            Ray::new(DVec3::new(5.0 * a, 5.0 * b, -10.0), DVec3::new(0.2 * b, 0.3 * a, 1.0)).unwrap()
+        })
+        .collect();
+    let mut batch = RayBatch::with_capacity(rays.len());
+    for r in &rays {
+        batch.push(*r);
+    }
+    t.trace_soa(&mut batch);
+    for (i, r) in rays.iter().enumerate() {
+        let one = t.trace(*r);
+        let many = t.outcome_of(&batch, i).unwrap();
+        assert_eq!(one, many, "ray {i}");
+        if let Outcome::Reached { ray, .. } = one {
+            // a diverging lens: the slopes grow by h / |f|
+            assert!(ray.direction.is_finite());
+        }
+    }
+    // Zemax's PARAXIAL surface, PARM 1 its focal length: written and read
+    let zmx = lens::io::zemax::write(&p).unwrap();
+    assert!(zmx.contains("TYPE PARAXIAL") && zmx.contains("PARM 1 -8E1"), "{zmx}");
+    let back = lens::io::zemax::read(&zmx, &lens::glass::Catalogs::with(Vec::new())).unwrap();
+    assert_eq!(back.surfaces[0].paraxial_focal_length(), Some(-80.0));
+}

@@ -324,6 +324,8 @@ impl Prescription {
                         conic,
                         aspheric,
                         odd_aspheric,
+                        kind: s.paraxial.map(|_| "paraxial".to_string()),
+                        focal_length_mm: s.paraxial,
                     }
                 })
                 .collect(),
@@ -471,5 +473,6 @@ fn surface_from_spec(s: &SurfaceSpec) -> Surface {
         semi_diameter: s.semi_diameter,
         stop: s.stop,
         asphere: s.asphere(),
+        paraxial: s.paraxial_focal_length(),
     }
 }

@@ -154,6 +154,14 @@ pub struct SurfaceSpec {
     /// added to the conic's sag (and to `aspheric`'s terms).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub odd_aspheric: Option<Vec<f64>>,
+    /// The surface's type: omitted for a sphere, plane or asphere;
+    /// `"paraxial"` for an ideal thin lens (Zemax's paraxial surface) of
+    /// `focal_length_mm`, in a plane, with the same medium on both sides.
+    #[serde(default, rename = "type", skip_serializing_if = "Option::is_none")]
+    pub kind: Option<String>,
+    /// The focal length of a `"paraxial"` surface, mm (negative: diverging).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focal_length_mm: Option<f64>,
 }
 
 impl SurfaceSpec {
@@ -170,7 +178,15 @@ impl SurfaceSpec {
             conic: None,
             aspheric: None,
             odd_aspheric: None,
+            kind: None,
+            focal_length_mm: None,
         }
+    }
+
+    /// The focal length (mm) of an ideal (`"paraxial"`) surface, `None` for
+    /// any other.
+    pub fn paraxial_focal_length(&self) -> Option<f64> {
+        (self.kind.as_deref() == Some("paraxial")).then_some(self.focal_length_mm).flatten()
     }
 
     /// Whether the file gives this surface a conic or aspheric terms.

@@ -28,6 +28,13 @@ pub struct Surface {
     /// The conic constant and polynomial terms of an aspheric surface
     /// (`None` for a sphere or plane).
     pub asphere: Option<Asphere>,
+    /// An ideal thin lens of this focal length (mm) in the vertex plane
+    /// (Zemax's paraxial surface; `None` for a real surface): a ray of
+    /// slopes t = (dx/dz, dy/dz) meeting it at height h leaves with t -
+    /// h / f (travelling +z), toward the point f t of the focal plane, and
+    /// gains the optical path that makes a plane wave converge there
+    /// exactly (docs/architecture.md, "Wave optics").
+    pub paraxial: Option<f64>,
 }
 
 /// The most polynomial terms of an asphere: powers r^1 to r^16 (Zemax's

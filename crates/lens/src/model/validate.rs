@@ -137,6 +137,7 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
     }
     for (i, s) in spec.surfaces.iter().enumerate() {
         check_surface(&mut out, i + 1, s);
+        check_paraxial(&mut out, spec, i);
     }
     let stops: Vec<usize> = spec.surfaces.iter().enumerate().filter(|(_, s)| s.stop).map(|(i, _)| i + 1).collect();
     match stops.len() {
@@ -197,6 +198,59 @@ pub const MAX_SURFACES: usize = 1000;
 /// The largest constant refractive index (germanium, the highest optical
 /// material in common use, is about 4 in the infrared).
 pub const MAX_IOR: f64 = 10.0;
+
+/// A surface's `type` and `focal_length_mm`: an ideal (`"paraxial"`)
+/// surface needs a finite, non-zero focal length, is a plane, and has the
+/// same medium on both sides.
+fn check_paraxial(out: &mut Findings, spec: &PrescriptionSpec, i: usize) {
+    let (s, n) = (&spec.surfaces[i], i + 1);
+    match s.kind.as_deref() {
+        None => {
+            if s.focal_length_mm.is_some() {
+                out.error(
+                    n,
+                    "focal_length_mm",
+                    "focal_length_mm belongs to an ideal lens: add \"type\": \"paraxial\", or remove focal_length_mm".into(),
+                );
+            }
+        }
+        Some("paraxial") => {
+            match s.focal_length_mm {
+                None => out.error(
+                    n,
+                    "focal_length_mm",
+                    "a paraxial surface needs focal_length_mm (mm; negative for a diverging lens)".into(),
+                ),
+                Some(f) if !f.is_finite() || f == 0.0 || f.abs() > MAX_LENGTH => out.error(
+                    n,
+                    "focal_length_mm",
+                    format!("focal_length_mm {}: give a finite focal length in mm, not 0", num(f)),
+                ),
+                Some(_) => {}
+            }
+            if s.radius.is_some() || s.is_aspheric() {
+                out.error(
+                    n,
+                    "type",
+                    "a paraxial surface is a plane: remove its radius, conic and aspheric terms".into(),
+                );
+            }
+            let before = if i == 0 { (1.0, None) } else { (spec.surfaces[i - 1].ior.unwrap_or(1.0), spec.surfaces[i - 1].glass.as_ref()) };
+            if (s.ior.unwrap_or(1.0), s.glass.as_ref()) != before {
+                out.error(
+                    n,
+                    "ior",
+                    "a paraxial surface has the same medium on both sides: give it the ior or glass of the medium before it (an ideal lens in glass is two surfaces: the glass's, then the paraxial one)".into(),
+                );
+            }
+        }
+        Some(other) => out.error(
+            n,
+            "type",
+            format!("type \"{other}\" is not a surface type: omit it (a sphere, plane or asphere) or give \"paraxial\" with focal_length_mm"),
+        ),
+    }
+}
 
 fn check_surface(out: &mut Findings, n: usize, s: &SurfaceSpec) {
     if let Some(r) = s.radius {

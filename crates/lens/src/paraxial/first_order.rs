@@ -56,7 +56,12 @@ impl FirstOrder {
         let a = trace(p, 1.0, 0.0);
         let b = trace(p, 0.0, 1.0);
         let power = -n_img * a.last_u();
-        let scale: f64 = s.iter().map(|x| x.vertex_curvature().abs() * (x.ior - 1.0).abs().max(1.0)).sum::<f64>();
+        let scale: f64 = s
+            .iter()
+            .map(|x| {
+                x.vertex_curvature().abs() * (x.ior - 1.0).abs().max(1.0) + x.paraxial.map_or(0.0, |f| 1.0 / f.abs())
+            })
+            .sum::<f64>();
         if power == 0.0 || power.abs() <= ZERO * scale.max(f64::MIN_POSITIVE) {
             return Err(OpticsError::Afocal);
         }

@@ -83,7 +83,11 @@ pub fn trace(p: &Prescription, y1: f64, u0: f64) -> ParaxialRay {
         }
         let n = p.index_before(i);
         let n2 = surf.ior;
-        let phi = surf.vertex_curvature() * (n2 - n);
+        // an ideal lens (same medium both sides): u' = u - y / f
+        let phi = match surf.paraxial {
+            Some(f) => n / f,
+            None => surf.vertex_curvature() * (n2 - n),
+        };
         u = (n * u - h * phi) / n2;
         y.push(h);
         u_out.push(u);

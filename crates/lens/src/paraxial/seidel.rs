@@ -83,7 +83,8 @@ pub fn seidel(
         let s3 = -ab * ab * y * du;
         let s4 = -lagrange * lagrange * curv * (1.0 / n2 - 1.0 / n);
         let s5 = if a != 0.0 { ab / a * (s3 + s4) } else { 0.0 };
-        surfaces.push([s1, s2, s3, s4, s5]);
+        // an ideal lens images plane to plane without aberration
+        surfaces.push(if s.paraxial.is_some() { [0.0; 5] } else { [s1, s2, s3, s4, s5] });
     }
     let mut sums = [0.0; 5];
     for s in &surfaces {

@@ -24,7 +24,7 @@ use super::spectral::ChunkIndices;
 #[cfg(target_arch = "x86_64")]
 use super::step::{
     kind_of, lanes_at, simd_fma, sphere_from_approach, step_lanes, stopped, Step, StepLanes, ASPHERE, CURVED, FLAT,
-    PLANE,
+    PARAXIAL, PLANE,
 };
 use super::step::{Lane, KIND_BITS, KIND_MASK, PASSED};
 use super::tracer::Tracer;
@@ -670,6 +670,7 @@ impl Tracer {
         let n = c.pad(m);
         for (k, s) in self.steps.iter().enumerate() {
             match (s.refract, s.shape) {
+                (_, PARAXIAL) => paraxial_chunk(s, k, c, n),
                 (true, ASPHERE) => step_chunk::<true, ASPHERE, PER_RAY>(s, k, c, n, ix),
                 (false, ASPHERE) => step_chunk::<false, ASPHERE, PER_RAY>(s, k, c, n, ix),
                 (true, PLANE) => step_chunk::<true, PLANE, PER_RAY>(s, k, c, n, ix),
@@ -783,6 +784,39 @@ fn step_chunk<const REFRACT: bool, const SHAPE: u8, const PER_RAY: bool>(
         unsafe { sphere_chunk_wide::<REFRACT, SHAPE, PER_RAY>(s, src, dst, n.div_ceil(2), ix, &mut bits, approach) }
     } else {
         sphere_chunk::<F64x4, REFRACT, SHAPE, PER_RAY>(s, &sl, src, dst, n, ix, &mut bits, approach);
+    }
+    let dying = *alive & bits.failed;
+    if dying != 0 {
+        *alive &= !dying;
+        stop_rays(s, k, src, dst, done, status, bits, dying);
+    }
+}
+
+/// An ideal-lens step ([`super::step::paraxial_step`]) over the chunk's
+/// first `n` four-ray vectors, ray by ray: the same function as the one-ray
+/// path, so both agree bit for bit. Its medium's index is the step's own
+/// (an ideal lens inside a glass gives a mixed-wavelength batch the
+/// primary's optical path; directions do not depend on it).
+#[cfg(target_arch = "x86_64")]
+fn paraxial_chunk(s: &Step, k: usize, c: &mut Chunk, n: usize) {
+    let sl = StepLanes::<f64>::of(s);
+    let n = n.min(VECTORS);
+    let Chunk { live: [a, b], done, status, alive, .. } = c;
+    let (src, dst) = if k.is_multiple_of(2) { (&*a, b) } else { (&*b, a) };
+    let mut bits = Bits::default();
+    for i in 0..4 * n {
+        let l = src.get(i);
+        if *alive >> i & 1 == 0 {
+            dst.set(i, l);
+            continue;
+        }
+        let out = super::step::paraxial_step(&sl, s.focal, l);
+        dst.set(i, out.next);
+        let v = out.verdict;
+        bits.failed |= u64::from(!v.passed) << i;
+        bits.ok |= u64::from(v.ok) << i;
+        bits.converged |= u64::from(v.converged) << i;
+        bits.inside |= u64::from(v.inside) << i;
     }
     let dying = *alive & bits.failed;
     if dying != 0 {

@@ -308,6 +308,8 @@ pub(crate) struct Step {
     /// start from the same ones (kept when a tracer widens `sd2` later:
     /// the start only decides how many steps a ray takes).
     pub zones: Option<Zones>,
+    /// The focal length of a [`PARAXIAL`] step, mm (0 for any other).
+    pub focal: f64,
 }
 
 /// How much (relative) a clear aperture's squared radius is widened for
@@ -332,6 +334,10 @@ pub(crate) const CURVED: u8 = 2;
 /// An asphere (a conic, polynomial terms): Newton's iteration
 /// (`asphere.rs`).
 pub(crate) const ASPHERE: u8 = 3;
+
+/// An ideal thin lens in the vertex plane ([`paraxial_step`]), traced ray
+/// by ray on both paths.
+pub(crate) const PARAXIAL: u8 = 4;
 
 /// The [`Step::shape`] of a surface of curvature `c` (an asphere when
 /// `aspheric`).
@@ -680,6 +686,9 @@ pub(crate) fn step_dispatch(
     k: &StepLanes<f64>,
     l: Lane<f64>,
 ) -> StepOut<f64> {
+    if s.shape == PARAXIAL {
+        return paraxial_step(k, s.focal, l);
+    }
     if let (ASPHERE, Some(a)) = (s.shape, asphere) {
         return if s.refract { asphere_step::<true>(k, a, l) } else { asphere_step::<false>(k, a, l) };
     }
@@ -719,10 +728,37 @@ pub(crate) fn surface_step(
         vertex_z,
         surface: i,
         refract: n1 != n2,
-        shape: shape_of(surf.curvature, surf.asphere.is_some()),
+        shape: if surf.paraxial.is_some() { PARAXIAL } else { shape_of(surf.curvature, surf.asphere.is_some()) },
         asphere: surf.asphere,
         zones: surf.asphere.and_then(|a| rings_of(surf.curvature, &a, sd2)),
+        focal: surf.paraxial.unwrap_or(0.0),
     }
+}
+
+/// An ideal thin lens of focal length `focal` (mm) in the step's vertex
+/// plane, the same medium on both sides: the ray meets the plane at H, is
+/// clipped by the clear aperture, and leaves with slopes t - sign(dz) h /
+/// f (t = (dx/dz, dy/dz)), toward the point Q = z_Q t, z_Q = sign(dz) f,
+/// where every ray of its slope meets (the focal plane); its path grows by
+/// n (sign(f) (|Q| - |Q - H|) - d . H), which makes every ray of a plane
+/// wave arrive at Q with the same optical path (the vertex's ray gains
+/// nothing), so the wavefront of an object at infinity is exact.
+pub(crate) fn paraxial_step(s: &StepLanes<f64>, focal: f64, l: Lane<f64>) -> StepOut<f64> {
+    let (p, d) = ([l.px, l.py, l.pz - s.shift], [l.dx, l.dy, l.dz]);
+    let h = meet_plane(p[0], p[1], p[2], d[0], d[1], d[2]);
+    let inside = s.inside(h.x, h.y);
+    let sign = if d[2] < 0.0 { -1.0 } else { 1.0 };
+    let (tx, ty) = (d[0] / d[2], d[1] / d[2]);
+    let (ux, uy) = (tx - sign * h.x / focal, ty - sign * h.y / focal);
+    let dz = sign / (1.0 + ux * ux + uy * uy).sqrt();
+    let zq = sign * focal;
+    let q = DVec3::new(zq * tx, zq * ty, zq);
+    let hit = DVec3::new(h.x, h.y, 0.0);
+    let gained = s.n_before * (focal.signum() * (q.length() - (q - hit).length()) - DVec3::from(d).dot(hit));
+    let opl = s.n_before.fma(h.t, l.opl) + gained;
+    let next = Lane { px: h.x, py: h.y, pz: h.z, dx: ux * dz, dy: uy * dz, dz, opl };
+    let ok = h.ok && next.dx.is_finite() && next.dy.is_finite() && opl.is_finite();
+    StepOut { next, verdict: Verdict::of(ok, inside, true) }
 }
 
 #[cfg(test)]

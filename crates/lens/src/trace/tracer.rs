@@ -117,6 +117,7 @@ impl Tracer {
             shape: PLANE,
             asphere: None,
             zones: None,
+            focal: 0.0,
         });
         Tracer::with_glasses(steps, p)
     }

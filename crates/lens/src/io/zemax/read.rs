@@ -184,11 +184,11 @@ pub(super) fn number(tok: Option<&&str>, line: usize, what: &str) -> Result<f64,
 /// The surface types read, and what the others are, for the error.
 fn surface_type(name: &str) -> Result<(), String> {
     match name {
-        "STANDARD" | "EVENASPH" | "ODDASPHE" => Ok(()),
+        "STANDARD" | "EVENASPH" | "ODDASPHE" | "PARAXIAL" => Ok(()),
         "COORDBRK" => Err("a coordinate break (tilts and decentres)".into()),
         "TOROIDAL" | "BICONICX" | "BICONIC" => Err("a toroidal or biconic surface (not rotationally symmetric)".into()),
         "DGRATING" | "ELLIGRAT" | "VARGRAT" | "BINARY_1" | "BINARY_2" => Err("a grating or diffractive surface".into()),
-        "PARAXIAL" | "PARAX_XY" => Err("a paraxial (ideal) lens".into()),
+        "PARAX_XY" => Err("a paraxial lens with different x and y powers".into()),
         "NONSEQCO" => Err("a non-sequential component".into()),
         "GRINSUR1" | "GRINSUR4" | "GRINSUR5" | "GRADIENT" => Err("a gradient-index surface".into()),
         other => Err(format!("type {other}")),
@@ -289,7 +289,7 @@ fn parse(text: &str) -> Result<File, ZemaxError> {
                             return Err(err(
                                 line,
                                 format!(
-                                    "surface {}: TYPE {t} is {what}, which is not supported: only STANDARD, EVENASPH and ODDASPHE surfaces are read",
+                                    "surface {}: TYPE {t} is {what}, which is not supported: only STANDARD, EVENASPH, ODDASPHE and PARAXIAL surfaces are read",
                                     b.number
                                 ),
                             ));
@@ -401,6 +401,9 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
             conic: (b.conic != 0.0).then_some(b.conic),
             aspheric: if kind == "EVENASPH" { terms(false) } else { None },
             odd_aspheric: if kind == "ODDASPHE" { terms(true) } else { None },
+            // Zemax's paraxial surface: PARM 1 its focal length
+            kind: (kind == "PARAXIAL").then(|| "paraxial".to_string()),
+            focal_length_mm: (kind == "PARAXIAL").then(|| b.parm[1] * s),
             ..SurfaceSpec::new((b.curv != 0.0).then(|| 1.0 / (b.curv / s)), thickness * s)
         });
     }

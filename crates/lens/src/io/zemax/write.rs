@@ -102,6 +102,7 @@ pub fn write(p: &Prescription) -> Result<String, String> {
     for (i, s) in p.surfaces().iter().enumerate() {
         line(format!("SURF {}", i + 1));
         let kind = match &s.asphere {
+            _ if s.paraxial.is_some() => "PARAXIAL",
             Some(a) if a.degree() > 0 && !a.is_even() => "ODDASPHE",
             Some(a) if a.degree() > 0 => "EVENASPH",
             _ => "STANDARD",
@@ -111,6 +112,11 @@ pub fn write(p: &Prescription) -> Result<String, String> {
         }
         line(format!("  TYPE {kind}"));
         line(format!("  CURV {} 0 0 0 0 \"\"", z(s.curvature)));
+        if let Some(f) = s.paraxial {
+            // the focal length, and OPD mode 0 (exact for a plane wave)
+            line(format!("  PARM 1 {}", z(f)));
+            line("  PARM 2 0".into());
+        }
         if let Some(a) = &s.asphere {
             let terms = if kind == "ODDASPHE" { a.all_terms() } else { a.even_terms() };
             for (k, t) in terms.iter().enumerate() {

@@ -117,6 +117,30 @@ pub fn run(args: Args) -> CmdResult {
     let radii: Vec<f64> = (1..=60).map(|k| reach * k as f64 / 60.0).collect();
     let ee = psf.encircled_energy(centroid, &radii);
     let sq = psf.ensquared_energy(centroid, &radii);
+    // the geometric encircled energy of the same field's spot (48 Gauss
+    // rings), about its centroid
+    let spot = match args.polychromatic {
+        true => {
+            let waves: Vec<(f64, f64)> = p.wavelengths_nm().iter().copied().zip(p.wavelength_weights()).collect();
+            lens::analysis::spot::spot_polychromatic(
+                &p,
+                &launcher,
+                lens::analysis::pattern::Pattern::Gauss,
+                48,
+                plane,
+                &waves,
+            )?
+        }
+        false => lens::analysis::spot::spot_traced(
+            &p,
+            &traced,
+            &launcher,
+            lens::analysis::pattern::Pattern::Gauss,
+            48,
+            plane,
+        )?,
+    };
+    let geo_ee = spot.encircled_energy(&radii);
     if let Some(out) = &args.plot.plot {
         // crop to where the encircled energy reaches 99%, at least 16 pixels
         let r99 = radii.iter().zip(&ee).find(|(_, f)| **f >= 0.99).map_or(reach, |(r, _)| *r);
@@ -129,8 +153,10 @@ pub fn run(args: Args) -> CmdResult {
         let title = format!("PSF: {}, {} deg, {light}", args.lens.name(&p), lens::error::Fixed(field_deg));
         let curve: Vec<(f64, f64)> =
             std::iter::once((0.0, 0.0)).chain(radii.iter().copied().zip(ee.iter().copied())).collect();
+        let geometric: Vec<(f64, f64)> =
+            std::iter::once((0.0, 0.0)).chain(radii.iter().copied().zip(geo_ee.iter().copied())).collect();
         let log = (!args.linear).then_some(4.0);
-        plot::save(&plot::wave::psf_chart(&title, &psf, half, log, &curve), out)?;
+        plot::save(&plot::wave::psf_chart(&title, &psf, half, log, &curve, &geometric), out)?;
     }
     if let Some(path) = &args.exr {
         write_exr(&psf, path)?;
@@ -154,6 +180,7 @@ pub fn run(args: Args) -> CmdResult {
             "centroid_mm": [centroid.0, centroid.1],
             "chief_image": [w.chief_image.x, w.chief_image.y, w.chief_image.z],
             "encircled_energy": {"radius_mm": radii, "fraction": ee},
+            "geometric_encircled_energy": {"radius_mm": radii, "fraction": geo_ee},
             "ensquared_energy": {"half_width_mm": radii, "fraction": sq},
         }))?;
         return Ok(ExitCode::SUCCESS);
@@ -186,9 +213,15 @@ pub fn run(args: Args) -> CmdResult {
     }
     outln!("  centroid            x {:+.4e}, y {:+.4e} mm from the chief ray's image point", centroid.0, centroid.1);
     for target in [0.5, 0.8, 0.9] {
-        if let Some(r) = radii.iter().zip(&ee).find(|(_, f)| **f >= target).map(|(r, _)| r) {
-            outln!("  encircled {:>3.0}%      within {:.4e} mm of the centroid", target * 100.0, r);
-        }
+        let at = |v: &[f64]| {
+            radii.iter().zip(v).find(|(_, f)| **f >= target).map_or("-".to_string(), |(r, _)| format!("{r:.4e}"))
+        };
+        outln!(
+            "  encircled {:>3.0}%      within {} mm of the centroid (geometric, from the spot: {} mm)",
+            target * 100.0,
+            at(&ee),
+            at(&geo_ee)
+        );
     }
     Ok(ExitCode::SUCCESS)
 }

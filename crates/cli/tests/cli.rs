@@ -582,6 +582,13 @@ fn psf_json_has_its_keys_and_writes_an_exr() {
         let ee: Vec<f64> =
             v["encircled_energy"]["fraction"].as_array().unwrap().iter().map(|x| x.as_f64().unwrap()).collect();
         assert!(ee.windows(2).all(|w| w[1] >= w[0]) && *ee.last().unwrap() <= 1.0 + 1e-9, "{method}: {ee:?}");
+        let geo: Vec<f64> = v["geometric_encircled_energy"]["fraction"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        assert!(geo.windows(2).all(|w| w[1] >= w[0]) && *geo.last().unwrap() <= 1.0 + 1e-9, "{method}: {geo:?}");
         assert!(v["pixel_x_mm"].as_f64().unwrap() > 0.0 && v["size"].as_u64().unwrap() >= 32);
         assert!(std::fs::metadata(&exr).unwrap().len() > 1000);
     }

@@ -110,13 +110,14 @@ pub fn sequential(t: f64) -> String {
 /// A PSF picture: the image (log10 over `decades` below its peak, or
 /// linear) in micrometres about the chief ray's image point, cropped to
 /// `half_width` pixels about the centre, and its encircled energy against
-/// radius (micrometres).
+/// radius (micrometres), diffraction beside geometric (the spot's).
 pub fn psf_chart(
     title: &str,
     psf: &lens::analysis::wave::psf::Psf,
     half_width: usize,
     log_decades: Option<f64>,
     ee: &[(f64, f64)],
+    geometric_ee: &[(f64, f64)],
 ) -> String {
     let peak = psf.peak().max(f64::MIN_POSITIVE);
     let mid = psf.size / 2;
@@ -160,7 +161,15 @@ pub fn psf_chart(
         title: "encircled energy about the centroid".into(),
         x_label: "radius (µm)".into(),
         y_label: "fraction".into(),
-        series: vec![Series::new("", ee.iter().map(|(r, f)| (r * 1e3, *f)).collect(), PALETTE[0], Style::Line)],
+        series: vec![
+            Series::new("diffraction", ee.iter().map(|(r, f)| (r * 1e3, *f)).collect(), PALETTE[0], Style::Line),
+            Series::new(
+                "geometric",
+                geometric_ee.iter().map(|(r, f)| (r * 1e3, *f)).collect(),
+                PALETTE[1],
+                Style::Dashed,
+            ),
+        ],
         y_range: Some((0.0, 1.02)),
         ..Panel::default()
     };

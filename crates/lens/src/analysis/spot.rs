@@ -77,6 +77,30 @@ pub struct SpotDiagram {
 }
 
 impl SpotDiagram {
+    /// The geometric encircled energy: the share of the rays' pupil weight
+    /// landing within each radius of `radii_mm` of the centroid.
+    pub fn encircled_energy(&self, radii_mm: &[f64]) -> Vec<f64> {
+        let total: f64 = self.weights.iter().sum();
+        let mut d: Vec<(f64, f64)> = self
+            .hits
+            .iter()
+            .zip(&self.weights)
+            .map(|(h, w)| ((h[0] - self.centroid[0]).hypot(h[1] - self.centroid[1]), *w))
+            .collect();
+        d.sort_by(|a, b| a.0.total_cmp(&b.0));
+        radii_mm
+            .iter()
+            .map(|&r| {
+                let n = d.partition_point(|x| x.0 <= r);
+                if total > 0.0 {
+                    d[..n].iter().map(|x| x.1).sum::<f64>() / total
+                } else {
+                    0.0
+                }
+            })
+            .collect()
+    }
+
     /// RMS radius about the centroid on a plane shifted by `dz` mm (+ toward
     /// the image): exact, since every ray is a straight line there.
     pub fn rms_at_shift(&self, dz: f64) -> f64 {

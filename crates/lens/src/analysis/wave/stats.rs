@@ -32,9 +32,52 @@ pub struct WavefrontStats {
 }
 
 /// The statistics of `w`.
+///
+/// The Strehl ratio's peak is the PSF's highest anywhere: a coarse image
+/// of the pupil function's transform (padded twice) finds the brightest
+/// pixel, from which Newton's method refines the tilt off the grid (a badly
+/// aberrated image's brightest point need not lie near its least-squares
+/// tilt).
 pub fn stats(w: &Wavefront) -> WavefrontStats {
     let samples: Vec<((f64, f64), f64, f64)> = w.passing().collect();
-    stats_of(&samples)
+    let mut s = stats_of(&samples);
+    let start = brightest_tilt(w);
+    let refined = strehl(&samples, start);
+    if refined > s.strehl {
+        s.strehl = refined;
+    }
+    s
+}
+
+/// The tilt (waves per unit of the normalised pupil) whose plane points at
+/// the brightest pixel of the pupil function's transform, the grid padded
+/// twice: a pixel is half a tilt step of 1 / 2 wave across the pupil.
+fn brightest_tilt(w: &Wavefront) -> (f64, f64) {
+    let n = w.grid.n;
+    let m = 2 * n;
+    let mut field = vec![Complex::new(0.0, 0.0); m * m];
+    for (c, v) in w.grid.cells.iter().zip(&w.opd_waves) {
+        if let Some(v) = v {
+            field[c.row * m + c.column] = Complex::from_polar(c.area, TAU * v);
+        }
+    }
+    let mut planner = rustfft::FftPlanner::new();
+    let fft = planner.plan_fft_forward(m);
+    field.par_chunks_mut(m).for_each(|r| fft.process(r));
+    let mut t = vec![Complex::new(0.0, 0.0); m * m];
+    t.par_chunks_mut(m).enumerate().for_each(|(r, row)| {
+        for (c, v) in row.iter_mut().enumerate() {
+            *v = field[c * m + r];
+        }
+    });
+    t.par_chunks_mut(m).for_each(|r| fft.process(r));
+    // t is transposed: t[col * m + row], the column (x) frequency first
+    let best = (0..m * m).max_by(|&a, &b| t[a].norm_sqr().total_cmp(&t[b].norm_sqr())).unwrap_or(0);
+    let (kx, ky) = (best / m, best % m);
+    let signed = |k: usize| if k >= m / 2 { k as f64 - m as f64 } else { k as f64 };
+    // the transform's index k is the tilt k / (m * 2 / n) waves per unit
+    let step = n as f64 / (2.0 * m as f64);
+    (signed(kx) * step, signed(ky) * step)
 }
 
 /// The statistics of samples (normalised pupil point, area weight, W in

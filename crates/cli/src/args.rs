@@ -222,6 +222,34 @@ pub fn check_fields(flag: &str, fields: &[f64]) -> Result<(), String> {
     }
 }
 
+/// `--grid N`: the pupil grid of the wave analyses.
+#[derive(clap::Args, Debug, Clone)]
+pub struct GridArgs {
+    /// Pupil samples across the diameter: an N x N grid, each cell weighted
+    /// by its area inside the pupil. Default: 64, or finer where the
+    /// wavefront needs it (neighbouring samples within half a wave), up to
+    /// 1024; a grid given here that is too coarse is refused.
+    #[arg(long, value_name = "N")]
+    pub grid: Option<usize>,
+}
+
+impl GridArgs {
+    /// The wavefront of `launcher`'s field through `traced` on `plane`, on
+    /// the grid asked for or the one the wavefront needs.
+    pub fn wavefront(
+        &self,
+        p: &lens::Prescription,
+        traced: &lens::Prescription,
+        launcher: &lens::analysis::Launcher,
+        plane: ImagePlane,
+    ) -> Result<lens::analysis::wave::Wavefront, lens::OpticsError> {
+        match self.grid {
+            Some(n) => lens::analysis::wave::wavefront(p, traced, launcher, n, plane),
+            None => lens::analysis::wave::wavefront_auto(p, traced, launcher, plane),
+        }
+    }
+}
+
 /// `--json`.
 #[derive(clap::Args, Debug, Clone)]
 pub struct JsonArgs {

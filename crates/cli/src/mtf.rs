@@ -236,31 +236,68 @@ fn fields(args: &Args, p: &Prescription) -> Result<Vec<f64>, String> {
     Ok((0..=10).map(|k| top * k as f64 / 10.0).collect())
 }
 
+/// T and S at each frequency over a sweep (of fields, or of focus).
+struct Sweep {
+    /// Per frequency, the tangential MTF at each step.
+    tan: Vec<Vec<f64>>,
+    /// Likewise sagittal.
+    sag: Vec<Vec<f64>>,
+}
+
+impl Sweep {
+    fn new(freqs: &[f64]) -> Self {
+        Sweep { tan: vec![Vec::new(); freqs.len()], sag: vec![Vec::new(); freqs.len()] }
+    }
+
+    /// Adds one step's MTF.
+    fn push(&mut self, m: &Mtf) {
+        for k in 0..self.tan.len() {
+            self.tan[k].push(m.tangential[k]);
+            self.sag[k].push(m.sagittal[k]);
+        }
+    }
+
+    /// The chart's curves against `xs` (one per step): T solid and S
+    /// dashed, a colour per frequency.
+    fn curves(&self, freqs: &[f64], xs: &[f64]) -> Vec<MtfCurve> {
+        let pts = |v: &[f64]| xs.iter().copied().zip(v.iter().copied()).collect();
+        let mut curves = Vec::new();
+        for (k, f) in freqs.iter().enumerate() {
+            curves.push(MtfCurve { label: format!("{f} c/mm T"), points: pts(&self.tan[k]), colour: k, dashed: false });
+            curves.push(MtfCurve { label: format!("{f} c/mm S"), points: pts(&self.sag[k]), colour: k, dashed: true });
+        }
+        curves
+    }
+
+    /// The table's head over the frequencies.
+    fn head(freqs: &[f64]) -> String {
+        freqs.iter().map(|f| format!("{f:>8} c/mm T, S")).collect::<Vec<_>>().join("  ")
+    }
+
+    /// Step `i`'s T and S at each frequency, as a table row.
+    fn row(&self, i: usize) -> String {
+        (0..self.tan.len())
+            .map(|k| format!("{:>8.4}, {:>8.4}", self.tan[k][i], self.sag[k][i]))
+            .collect::<Vec<_>>()
+            .join("  ")
+    }
+}
+
 /// `--vs-field`: T and S at each frequency against image height.
 fn vs_field(args: &Args, s: &Setup, plane: ImagePlane, name: &str) -> CmdResult {
     let fields = fields(args, s.p)?;
     let freqs = &args.frequencies;
     let mut heights = Vec::new();
-    let mut tan: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
-    let mut sag: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
+    let mut sweep = Sweep::new(freqs);
     for &deg in &fields {
         let launcher = s.launcher(deg)?;
         let probe = lens::analysis::wave::opd::Probe::new(s.p, s.traced, &launcher, plane)?;
         heights.push(probe.chief_image().y);
-        let m = s.mtf_with(&launcher, plane, freqs)?;
-        for k in 0..freqs.len() {
-            tan[k].push(m.tangential[k]);
-            sag[k].push(m.sagittal[k]);
-        }
+        sweep.push(&s.mtf_with(&launcher, plane, freqs)?);
     }
     if let Some(out) = &args.plot.plot {
-        let mut curves = Vec::new();
-        for (k, f) in freqs.iter().enumerate() {
-            let pts = |v: &[f64]| heights.iter().copied().zip(v.iter().copied()).collect();
-            curves.push(MtfCurve { label: format!("{f} c/mm T"), points: pts(&tan[k]), colour: k, dashed: false });
-            curves.push(MtfCurve { label: format!("{f} c/mm S"), points: pts(&sag[k]), colour: k, dashed: true });
-        }
         let title = format!("MTF against image height: {name}, {}", s.light());
+        let curves = sweep.curves(freqs, &heights);
         plot::save(&mtf_chart(&title, "tangential solid, sagittal dashed", "image height (mm)", &curves), out)?;
     }
     if args.out.json {
@@ -270,17 +307,15 @@ fn vs_field(args: &Args, s: &Setup, plane: ImagePlane, name: &str) -> CmdResult 
             "fields_deg": fields,
             "image_height_mm": heights,
             "frequencies_per_mm": freqs,
-            "tangential": tan,
-            "sagittal": sag,
+            "tangential": sweep.tan,
+            "sagittal": sweep.sag,
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!("MTF against image height, {} (rows: fields; T and S at each frequency)", s.light());
-    let head: Vec<String> = freqs.iter().map(|f| format!("{f:>8} c/mm T, S")).collect();
-    outln!("  {:>8}  {:>10}  {}", "deg", "height mm", head.join("  "));
+    outln!("  {:>8}  {:>10}  {}", "deg", "height mm", Sweep::head(freqs));
     for (i, deg) in fields.iter().enumerate() {
-        let vals: Vec<String> = (0..freqs.len()).map(|k| format!("{:>8.4}, {:>8.4}", tan[k][i], sag[k][i])).collect();
-        outln!("  {:>8.3}  {:>10.4}  {}", deg, heights[i], vals.join("  "));
+        outln!("  {:>8.3}  {:>10.4}  {}", deg, heights[i], sweep.row(i));
     }
     Ok(ExitCode::SUCCESS)
 }
@@ -295,8 +330,7 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
     let z0 = plane.z(s.p, &launcher)?;
     let freqs = &args.frequencies;
     let shifts: Vec<f64> = (0..=20).map(|k| -range + 2.0 * range * k as f64 / 20.0).collect();
-    let mut tan: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
-    let mut sag: Vec<Vec<f64>> = vec![Vec::new(); freqs.len()];
+    let mut sweep = Sweep::new(freqs);
     for &dz in &shifts {
         let film = z0 + dz - s.p.last_vertex_z();
         if film <= 0.0 {
@@ -305,19 +339,10 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
             )
             .into());
         }
-        let m = s.mtf_with(&launcher, ImagePlane::Film(film), freqs)?;
-        for k in 0..freqs.len() {
-            tan[k].push(m.tangential[k]);
-            sag[k].push(m.sagittal[k]);
-        }
+        sweep.push(&s.mtf_with(&launcher, ImagePlane::Film(film), freqs)?);
     }
     if let Some(out) = &args.plot.plot {
-        let mut curves = Vec::new();
-        for (k, f) in freqs.iter().enumerate() {
-            let pts = |v: &[f64]| shifts.iter().copied().zip(v.iter().copied()).collect();
-            curves.push(MtfCurve { label: format!("{f} c/mm T"), points: pts(&tan[k]), colour: k, dashed: false });
-            curves.push(MtfCurve { label: format!("{f} c/mm S"), points: pts(&sag[k]), colour: k, dashed: true });
-        }
+        let curves = sweep.curves(freqs, &shifts);
         let title =
             format!("Through-focus MTF: {name}, {} deg, {}", lens::error::Fixed(args.field.field_deg), s.light());
         plot::save(&mtf_chart(&title, "tangential solid, sagittal dashed", "focus shift (mm)", &curves), out)?;
@@ -329,8 +354,8 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
             "image_z": z0,
             "focus_shift_mm": shifts,
             "frequencies_per_mm": freqs,
-            "tangential": tan,
-            "sagittal": sag,
+            "tangential": sweep.tan,
+            "sagittal": sweep.sag,
         }))?;
         return Ok(ExitCode::SUCCESS);
     }
@@ -340,11 +365,9 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
         s.light(),
         z0
     );
-    let head: Vec<String> = freqs.iter().map(|f| format!("{f:>8} c/mm T, S")).collect();
-    outln!("  {:>10}  {}", "shift mm", head.join("  "));
+    outln!("  {:>10}  {}", "shift mm", Sweep::head(freqs));
     for (i, dz) in shifts.iter().enumerate() {
-        let vals: Vec<String> = (0..freqs.len()).map(|k| format!("{:>8.4}, {:>8.4}", tan[k][i], sag[k][i])).collect();
-        outln!("  {:>+10.4}  {}", dz, vals.join("  "));
+        outln!("  {:>+10.4}  {}", dz, sweep.row(i));
     }
     Ok(ExitCode::SUCCESS)
 }

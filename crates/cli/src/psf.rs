@@ -1,7 +1,7 @@
 //! `lens psf`: the point spread function of a field (FFT or Huygens), its
 //! Strehl ratio and encircled energy.
 
-use crate::args::{AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
+use crate::args::{AimArgs, FieldArgs, GridArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
 use lens::analysis::wave::mtf::cutoffs;
 use lens::analysis::wave::psf::{fft_psf, huygens_psf, polychromatic_psf, Psf};
@@ -35,10 +35,8 @@ pub struct Args {
     /// How the PSF is computed.
     #[arg(long, value_enum, default_value_t = MethodArg::Fft)]
     method: MethodArg,
-    /// Pupil samples across the diameter (default: 64, or finer where the
-    /// wavefront needs it; see `lens wavefront`).
-    #[arg(long, value_name = "N")]
-    grid: Option<usize>,
+    #[command(flatten)]
+    grid: GridArgs,
     /// Samples per lambda N_w on the image plane (the FFT's padding Q:
     /// pixel = lambda N_w / Q along each direction).
     #[arg(long, value_name = "Q", default_value_t = 4)]
@@ -80,10 +78,7 @@ pub fn run(args: Args) -> CmdResult {
     let field_deg = args.field.field_deg;
     crate::args::check_fields("--field-deg", &[field_deg])?;
     let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), args.aim.aim())?;
-    let w = match args.grid {
-        Some(n) => wavefront(&p, &traced, &launcher, n, plane)?,
-        None => wavefront_auto(&p, &traced, &launcher, plane)?,
-    };
+    let w = args.grid.wavefront(&p, &traced, &launcher, plane)?;
     let s = stats(&w);
     let (ct, cs) = cutoffs(&p, &traced, &launcher, w.image_z)?;
     if args.polychromatic && matches!(args.method, MethodArg::Huygens) {

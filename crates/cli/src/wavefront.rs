@@ -1,10 +1,10 @@
 //! `lens wavefront`: the wavefront error of one field (OPD to the exit
 //! pupil's reference sphere), its statistics and Zernike fits.
 
-use crate::args::{AimArgs, FieldArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
+use crate::args::{AimArgs, FieldArgs, GridArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
+use lens::analysis::wave::stats;
 use lens::analysis::wave::zernike::{fit, ZernikeKind, TERMS};
-use lens::analysis::wave::{stats, wavefront, wavefront_auto};
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
 use serde_json::json;
@@ -22,12 +22,8 @@ pub struct Args {
     plane: PlaneArgs,
     #[command(flatten)]
     wavelength: WavelengthArgs,
-    /// Pupil samples across the diameter: an N x N grid, each cell weighted
-    /// by its area inside the pupil. Default: 64, or finer where the
-    /// wavefront needs it (neighbouring samples within half a wave), up to
-    /// 1024; a grid given here that is too coarse is refused.
-    #[arg(long, value_name = "N")]
-    grid: Option<usize>,
+    #[command(flatten)]
+    grid: GridArgs,
     /// With --json: also every sample of the map, as "samples": {"px",
     /// "py" (normalised pupil), "weight" (its cell's area inside the
     /// pupil, 0-1), "opd_waves" (null where vignetted)}.
@@ -47,10 +43,7 @@ pub fn run(args: Args) -> CmdResult {
     let field_deg = args.field.field_deg;
     crate::args::check_fields("--field-deg", &[field_deg])?;
     let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), args.aim.aim())?;
-    let w = match args.grid {
-        Some(n) => wavefront(&p, &traced, &launcher, n, plane)?,
-        None => wavefront_auto(&p, &traced, &launcher, plane)?,
-    };
+    let w = args.grid.wavefront(&p, &traced, &launcher, plane)?;
     let s = stats(&w);
     let fringe = fit(&w, ZernikeKind::Fringe, TERMS);
     let standard = fit(&w, ZernikeKind::Standard, TERMS);

@@ -187,30 +187,32 @@ impl<'a> Probe<'a> {
     /// before launching); `None` where the ray does not reach the image.
     /// Traced in chunks on all cores.
     pub fn at(&self, points: &[(f64, f64)]) -> Result<Vec<Option<(f64, DVec3)>>, OpticsError> {
-        let launched: Vec<(f64, f64)> = points.iter().map(|&(x, y)| self.vignetting.apply(x, y)).collect();
-        let ends: Vec<Result<Vec<End>, OpticsError>> =
-            launched.par_chunks(CHUNK).map(|chunk| trace_chunk(self.launcher, &self.tracer, chunk)).collect();
-        let mut out = Vec::with_capacity(points.len());
-        for e in ends {
-            out.extend(
-                e?.iter().map(|e| {
-                    e.as_ref().and_then(|e| self.path(e)).map(|(s, at)| ((self.s_chief - s) / self.lambda, at))
-                }),
-            );
-        }
-        Ok(out)
+        self.each(points, |w, at| (w, at))
     }
 
     /// W in waves at each normalised pupil point, `None` where the ray does
     /// not reach the image ([`Self::at`] without the sphere points).
     pub fn opd(&self, points: &[(f64, f64)]) -> Result<Vec<Option<f64>>, OpticsError> {
+        self.each(points, |w, _| w)
+    }
+
+    /// `keep` of each point's W (waves) and sphere point, in chunks on all
+    /// cores, `None` where the ray does not reach the image.
+    fn each<T: Send>(
+        &self,
+        points: &[(f64, f64)],
+        keep: impl Fn(f64, DVec3) -> T + Sync,
+    ) -> Result<Vec<Option<T>>, OpticsError> {
         let launched: Vec<(f64, f64)> = points.iter().map(|&(x, y)| self.vignetting.apply(x, y)).collect();
-        let ends: Vec<Result<Vec<Option<f64>>, OpticsError>> = launched
+        let ends: Vec<Result<Vec<Option<T>>, OpticsError>> = launched
             .par_chunks(CHUNK)
             .map(|chunk| {
                 Ok(trace_chunk(self.launcher, &self.tracer, chunk)?
                     .iter()
-                    .map(|e| e.as_ref().and_then(|e| self.path(e)).map(|(s, _)| (self.s_chief - s) / self.lambda))
+                    .map(|e| {
+                        let (s, at) = self.path(e.as_ref()?)?;
+                        Some(keep((self.s_chief - s) / self.lambda, at))
+                    })
                     .collect())
             })
             .collect();

@@ -174,14 +174,8 @@ pub fn fft_psf(w: &Wavefront, cutoffs: (f64, f64), pad: usize) -> Psf {
     for &(col, row, v) in &p {
         field[row * m + col] = v;
     }
-    let mut planner = rustfft::FftPlanner::new();
     // e^{+2 pi i jk / M}: the image of W = a px lies at x = -2 a / nu_c
-    let fft = planner.plan_fft_inverse(m);
-    field.par_chunks_mut(m).for_each(|r| fft.process(r));
-    let mut t = vec![Complex::new(0.0, 0.0); m * m];
-    transpose(&field, &mut t, m);
-    t.par_chunks_mut(m).for_each(|r| fft.process(r));
-    transpose(&t, &mut field, m);
+    fft2(&mut field, m, rustfft::FftDirection::Inverse);
     // the pupil grid's first cell sits at -1 + 1/n, not at index 0's phase
     // centre: only a phase, gone in the intensity. fftshift to centre.
     let norm = 1.0 / (peak * peak);
@@ -201,6 +195,18 @@ pub fn fft_psf(w: &Wavefront, cutoffs: (f64, f64), pad: usize) -> Psf {
         intensity,
         total,
     }
+}
+
+/// The 2-D discrete Fourier transform (unnormalised, in `direction`) of
+/// the m x m row-major array `field`, in place: rows, then columns, on all
+/// cores.
+pub(crate) fn fft2(field: &mut [Complex<f64>], m: usize, direction: rustfft::FftDirection) {
+    let fft = rustfft::FftPlanner::new().plan_fft(m, direction);
+    field.par_chunks_mut(m).for_each(|r| fft.process(r));
+    let mut t = vec![Complex::new(0.0, 0.0); m * m];
+    transpose(field, &mut t, m);
+    t.par_chunks_mut(m).for_each(|r| fft.process(r));
+    transpose(&t, field, m);
 }
 
 /// `out` = the transpose of the m x m matrix `a`.

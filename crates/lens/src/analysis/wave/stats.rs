@@ -61,19 +61,9 @@ fn brightest_tilt(w: &Wavefront) -> (f64, f64) {
             field[c.row * m + c.column] = Complex::from_polar(c.area, TAU * v);
         }
     }
-    let mut planner = rustfft::FftPlanner::new();
-    let fft = planner.plan_fft_forward(m);
-    field.par_chunks_mut(m).for_each(|r| fft.process(r));
-    let mut t = vec![Complex::new(0.0, 0.0); m * m];
-    t.par_chunks_mut(m).enumerate().for_each(|(r, row)| {
-        for (c, v) in row.iter_mut().enumerate() {
-            *v = field[c * m + r];
-        }
-    });
-    t.par_chunks_mut(m).for_each(|r| fft.process(r));
-    // t is transposed: t[col * m + row], the column (x) frequency first
-    let best = (0..m * m).max_by(|&a, &b| t[a].norm_sqr().total_cmp(&t[b].norm_sqr())).unwrap_or(0);
-    let (kx, ky) = (best / m, best % m);
+    super::psf::fft2(&mut field, m, rustfft::FftDirection::Forward);
+    let best = (0..m * m).max_by(|&a, &b| field[a].norm_sqr().total_cmp(&field[b].norm_sqr())).unwrap_or(0);
+    let (ky, kx) = (best / m, best % m);
     let signed = |k: usize| if k >= m / 2 { k as f64 - m as f64 } else { k as f64 };
     // the transform's index k is the tilt k / (m * 2 / n) waves per unit
     let step = n as f64 / (2.0 * m as f64);

@@ -9,6 +9,7 @@
 //!   centroid, and the Strehl ratio.
 //! - [`zernike`]: Fringe and Standard Zernike polynomials and fits.
 
+mod autocorrelation;
 pub mod mtf;
 pub mod opd;
 pub mod psf;

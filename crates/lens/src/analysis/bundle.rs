@@ -103,8 +103,12 @@ pub fn launch(
     batch.clear();
     let mut failed = 0;
     for (px, py) in points {
-        if push_launched(batch, launcher.ray(px, py))? {
-            failed += 1;
+        match launcher.paraxial_ray(px, py) {
+            Some(r) => batch.push(r),
+            None => {
+                batch.push_skipped();
+                failed += 1;
+            }
         }
     }
     Ok(failed)

@@ -271,6 +271,15 @@ impl Launcher {
         self.ray_from_pupil(px, py, e)
     }
 
+    /// The paraxially aimed ray of normalised pupil point (px, py) (what
+    /// [`Self::ray`] gives under [`Aim::Paraxial`], to the bit), `None`
+    /// where it cannot be formed: the batch launch's path, free of the
+    /// error type's size.
+    #[inline]
+    pub(crate) fn paraxial_ray(&self, px: f64, py: f64) -> Option<Ray> {
+        self.ray_through(self.paraxial_aim(px, py))
+    }
+
     /// The object-space ray of pupil point (px, py) through the
     /// entrance-pupil point `e` its aiming found for it.
     pub(crate) fn ray_from_pupil(&self, px: f64, py: f64, e: DVec2) -> Result<Ray, OpticsError> {

@@ -117,9 +117,11 @@ impl<'a> Probe<'a> {
         let image_z = plane.z(p, launcher)?;
         let tracer = Tracer::forward_to_film(traced, image_z - traced.last_vertex_z());
         let vignetting = p.vignetting_at(launcher.field_angle_deg());
-        let chief = trace_chunk(launcher, &tracer, &[(0.0, 0.0)])?[0].ok_or_else(|| OpticsError::ChiefRayLost {
-            field: field.describe(),
-            why: "the lens blocks it, or real aiming found no ray through the stop's centre".into(),
+        let chief = trace_chunk(launcher, &tracer, [(0.0, 0.0)].into_iter(), |e| e)?[0].ok_or_else(|| {
+            OpticsError::ChiefRayLost {
+                field: field.describe(),
+                why: "the lens blocks it, or real aiming found no ray through the stop's centre".into(),
+            }
         })?;
         let exit_pupil = launcher.first_order().exit_pupil;
         let c = chief.at;
@@ -203,22 +205,19 @@ impl<'a> Probe<'a> {
         points: &[(f64, f64)],
         keep: impl Fn(f64, DVec3) -> T + Sync,
     ) -> Result<Vec<Option<T>>, OpticsError> {
-        let launched: Vec<(f64, f64)> = points.iter().map(|&(x, y)| self.vignetting.apply(x, y)).collect();
-        let ends: Vec<Result<Vec<Option<T>>, OpticsError>> = launched
+        let chunks: Vec<Result<Vec<Option<T>>, OpticsError>> = points
             .par_chunks(CHUNK)
             .map(|chunk| {
-                Ok(trace_chunk(self.launcher, &self.tracer, chunk)?
-                    .iter()
-                    .map(|e| {
-                        let (s, at) = self.path(e.as_ref()?)?;
-                        Some(keep((self.s_chief - s) / self.lambda, at))
-                    })
-                    .collect())
+                let launched = chunk.iter().map(|&(x, y)| self.vignetting.apply(x, y));
+                trace_chunk(self.launcher, &self.tracer, launched, |e| {
+                    let (s, at) = self.path(&e?)?;
+                    Some(keep((self.s_chief - s) / self.lambda, at))
+                })
             })
             .collect();
         let mut out = Vec::with_capacity(points.len());
-        for e in ends {
-            out.extend(e?);
+        for c in chunks {
+            out.extend(c?);
         }
         Ok(out)
     }
@@ -345,27 +344,43 @@ struct Hit {
     launch_direction: DVec3,
 }
 
-type End = Option<Hit>;
-
-/// Launches and traces one chunk of pupil points.
-fn trace_chunk(launcher: &Launcher, tracer: &Tracer, points: &[(f64, f64)]) -> Result<Vec<End>, OpticsError> {
-    let mut batch = RayBatch::with_capacity(points.len());
-    bundle::launch(launcher, points.iter().copied(), &mut batch)?;
-    let starts: Vec<(DVec3, DVec3)> = (0..batch.len())
-        .map(|i| (DVec3::new(batch.x[i], batch.y[i], batch.z[i]), DVec3::new(batch.dx[i], batch.dy[i], batch.dz[i])))
-        .collect();
-    tracer.trace_soa(&mut batch);
-    Ok((0..batch.len())
-        .map(|i| {
-            (batch.status[i] == 0).then(|| Hit {
-                at: DVec3::new(batch.x[i], batch.y[i], batch.z[i]),
-                direction: DVec3::new(batch.dx[i], batch.dy[i], batch.dz[i]),
-                opl: batch.opl[i],
-                launch: starts[i].0,
-                launch_direction: starts[i].1,
+/// Launches and traces one chunk of pupil points (a batch kept by each
+/// thread between calls), `keep` of each ray's end (`None` where it did not
+/// reach the image) in order.
+fn trace_chunk<T>(
+    launcher: &Launcher,
+    tracer: &Tracer,
+    points: impl Iterator<Item = (f64, f64)>,
+    mut keep: impl FnMut(Option<Hit>) -> T,
+) -> Result<Vec<T>, OpticsError> {
+    thread_local! {
+        /// Each thread's batch and launch copy between calls.
+        static SCRATCH: std::cell::RefCell<(RayBatch, Vec<(DVec3, DVec3)>)> = Default::default();
+    }
+    let run = |(batch, starts): &mut (RayBatch, Vec<(DVec3, DVec3)>)| {
+        bundle::launch(launcher, points, batch)?;
+        starts.clear();
+        starts.extend((0..batch.len()).map(|i| {
+            (DVec3::new(batch.x[i], batch.y[i], batch.z[i]), DVec3::new(batch.dx[i], batch.dy[i], batch.dz[i]))
+        }));
+        tracer.trace_soa(batch);
+        Ok((0..batch.len())
+            .map(|i| {
+                keep((batch.status[i] == 0).then(|| Hit {
+                    at: DVec3::new(batch.x[i], batch.y[i], batch.z[i]),
+                    direction: DVec3::new(batch.dx[i], batch.dy[i], batch.dz[i]),
+                    opl: batch.opl[i],
+                    launch: starts[i].0,
+                    launch_direction: starts[i].1,
+                }))
             })
-        })
-        .collect())
+            .collect())
+    };
+    // a fresh batch where this thread's is in use (a nested call)
+    SCRATCH.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut scratch) => run(&mut scratch),
+        Err(_) => run(&mut Default::default()),
+    })
 }
 
 /// Refuses a grid on which neighbouring samples differ by more than half

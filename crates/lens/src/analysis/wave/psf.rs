@@ -175,7 +175,7 @@ pub fn fft_psf(w: &Wavefront, cutoffs: (f64, f64), pad: usize) -> Psf {
         field[row * m + col] = v;
     }
     // e^{+2 pi i jk / M}: the image of W = a px lies at x = -2 a / nu_c
-    fft2(&mut field, m, rustfft::FftDirection::Inverse);
+    fft2(&mut field, m, n, rustfft::FftDirection::Inverse);
     // the pupil grid's first cell sits at -1 + 1/n, not at index 0's phase
     // centre: only a phase, gone in the intensity. fftshift to centre.
     let norm = 1.0 / (peak * peak);
@@ -198,22 +198,33 @@ pub fn fft_psf(w: &Wavefront, cutoffs: (f64, f64), pad: usize) -> Psf {
 }
 
 /// The 2-D discrete Fourier transform (unnormalised, in `direction`) of
-/// the m x m row-major array `field`, in place: rows, then columns, on all
-/// cores.
-pub(crate) fn fft2(field: &mut [Complex<f64>], m: usize, direction: rustfft::FftDirection) {
+/// the m x m row-major array `field`, in place, where only its first
+/// `rows` rows may be non-zero (a zero-padded pupil): those rows, then
+/// every column, on all cores.
+pub(crate) fn fft2(field: &mut [Complex<f64>], m: usize, rows: usize, direction: rustfft::FftDirection) {
     let fft = rustfft::FftPlanner::new().plan_fft(m, direction);
-    field.par_chunks_mut(m).for_each(|r| fft.process(r));
+    let scratch = || vec![Complex::new(0.0, 0.0); fft.get_inplace_scratch_len()];
+    let rows = rows.min(m);
+    field[..rows * m].par_chunks_mut(m).for_each_init(scratch, |s, r| fft.process_with_scratch(r, s));
     let mut t = vec![Complex::new(0.0, 0.0); m * m];
     transpose(field, &mut t, m);
-    t.par_chunks_mut(m).for_each(|r| fft.process(r));
+    t.par_chunks_mut(m).for_each_init(scratch, |s, r| fft.process_with_scratch(r, s));
     transpose(&t, field, m);
 }
 
-/// `out` = the transpose of the m x m matrix `a`.
+/// `out` = the transpose of the m x m matrix `a`, in tiles that stay in
+/// the cache.
 fn transpose(a: &[Complex<f64>], out: &mut [Complex<f64>], m: usize) {
-    out.par_chunks_mut(m).enumerate().for_each(|(r, row)| {
-        for (c, v) in row.iter_mut().enumerate() {
-            *v = a[c * m + r];
+    const TILE: usize = 16;
+    out.par_chunks_mut(m * TILE).enumerate().for_each(|(band, rows)| {
+        let r0 = band * TILE;
+        for c0 in (0..m).step_by(TILE) {
+            for (dr, row) in rows.chunks_mut(m).enumerate() {
+                let r = r0 + dr;
+                for c in c0..(c0 + TILE).min(m) {
+                    row[c] = a[c * m + r];
+                }
+            }
         }
     });
 }

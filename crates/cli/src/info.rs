@@ -6,7 +6,6 @@ use lens::analysis::aperture::clear_aperture_limit;
 use lens::error::num;
 use lens::error::Fixed;
 use lens::paraxial::{imaging, FirstOrder, ObjectDistance};
-use serde_json::json;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -27,23 +26,8 @@ pub fn run(a: Args) -> CmdResult {
     let f = FirstOrder::of(&p)?;
     let limit = clear_aperture_limit(&p, &f);
     let img = imaging(&p, &f, object)?;
-    let pupil = |z: Option<f64>, d: Option<f64>| json!({"z": z, "diameter": d});
     if a.out.json {
-        print_json(&json!({
-            "name": p.name(),
-            "efl": f.efl,
-            "bfl": f.bfl,
-            "ffd": f.ffd,
-            "front_principal_plane": f.front_principal_plane,
-            "back_principal_plane": f.back_principal_plane,
-            "entrance_pupil": pupil(Some(f.entrance_pupil.z), Some(f.entrance_pupil.diameter)),
-            "exit_pupil": pupil(f.exit_pupil.map(|x| x.z), f.exit_pupil.map(|x| x.diameter)),
-            "f_number": f.f_number,
-            "working_f_number": img.working_f_number,
-            "image_distance": img.image_distance,
-            "magnification": img.magnification,
-            "total_track": f.total_track,
-        }))?;
+        print_json(&lens::report::info(&p, object)?)?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!("{}", a.lens.name(&p));

@@ -174,27 +174,12 @@ pub fn run(args: Args) -> CmdResult {
         plot::save(&mtf_chart(&title, &panel, "spatial frequency (cycles/mm)", &curves), out)?;
     }
     if args.out.json {
-        print_json(&json!({
-            "field_deg": field_deg,
-            "wavelength_nm": m.wavelength_nm,
-            "wavelengths_nm": s.waves.as_ref().map(|w| w.iter().map(|x| x.0).collect::<Vec<_>>()),
-            "wavelength_weights": s.waves.as_ref().map(|w| w.iter().map(|x| x.1).collect::<Vec<_>>()),
-            "image_plane": plane.name(),
-            "image_z": m.image_z,
-            "frequencies_per_mm": m.frequencies_per_mm,
-            "tangential": m.tangential,
-            "sagittal": m.sagittal,
-            "cutoff_per_mm": axis_cutoff,
-            "cutoff_tangential_per_mm": m.cutoff_tangential_per_mm,
-            "cutoff_sagittal_per_mm": m.cutoff_sagittal_per_mm,
-            "diffraction_limit": {"tangential": m.diffraction_limit_tangential, "sagittal": m.diffraction_limit_sagittal},
-            "quadrature_nodes": m.nodes,
-            "geometric": geo.as_ref().map(|(t, g)| json!({
-                "tangential": t,
-                "sagittal": g,
-                "scaled_by_diffraction_limit": args.scale_by_diffraction,
-            })),
-        }))?;
+        let geometric = geo.as_ref().map(|(t, g)| lens::report::GeometricMtf {
+            tangential: t,
+            sagittal: g,
+            scaled_by_diffraction_limit: args.scale_by_diffraction,
+        });
+        print_json(&lens::report::mtf(field_deg, plane, &m, s.waves.as_deref(), axis_cutoff, geometric))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(

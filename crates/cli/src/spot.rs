@@ -6,7 +6,6 @@ use lens::analysis::pattern::Pattern;
 use lens::analysis::spot::{spot_polychromatic, spot_traced};
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
-use serde_json::json;
 use std::process::ExitCode;
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
@@ -79,25 +78,7 @@ pub fn run(args: Args) -> CmdResult {
         plot::save(&plot::spot::spot_chart(&spots, p.name()), out)?;
     }
     if args.out.json {
-        print_json(&json!({
-            "field_deg": field_deg,
-            "image_plane": s.image_plane,
-            "image_z": s.image_z,
-            "wavelengths_nm": s.wavelengths_nm,
-            "wavelength_weights": s.wavelength_weights,
-            "rays": s.rays,
-            "vignetted": s.vignetted,
-            "aim_failures": s.aim_failures,
-            "centroid": s.centroid,
-            "rms_radius": s.rms_radius,
-            "rms_radius_chief": s.rms_radius_chief,
-            "geo_radius": s.geo_radius,
-            "geo_radius_chief": s.geo_radius_chief,
-            "chief": s.chief,
-            "airy_radius": s.airy_radius,
-            "best_focus_shift": s.best_focus_shift,
-            "rms_radius_best_focus": s.rms_radius_best_focus,
-        }))?;
+        print_json(&lens::report::spot(field_deg, &s))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(

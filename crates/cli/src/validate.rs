@@ -27,12 +27,7 @@ pub fn run(a: Args) -> CmdResult {
         };
         failed |= !valid;
         if a.json {
-            let v = serde_json::json!({
-                "file": path.display().to_string(),
-                "valid": valid,
-                "error": load_error,
-                "findings": findings,
-            });
+            let v = lens::report::validation(&path.display().to_string(), valid, load_error, &findings);
             outln!("{v}");
             continue;
         }

@@ -7,7 +7,6 @@ use lens::analysis::wave::stats;
 use lens::analysis::wave::zernike::{fit, ZernikeKind, TERMS};
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
-use serde_json::json;
 use std::process::ExitCode;
 
 #[derive(clap::Args)]
@@ -52,40 +51,8 @@ pub fn run(args: Args) -> CmdResult {
     }
     let exit = w.exit_pupil;
     if args.out.json {
-        let samples = args.samples.then(|| {
-            let cells = &w.grid.cells;
-            json!({
-                "px": cells.iter().map(|c| c.centre.0).collect::<Vec<_>>(),
-                "py": cells.iter().map(|c| c.centre.1).collect::<Vec<_>>(),
-                "weight": cells.iter().map(|c| c.area).collect::<Vec<_>>(),
-                "opd_waves": &w.opd_waves,
-            })
-        });
-        print_json(&json!({
-            "field_deg": field_deg,
-            "wavelength_nm": w.wavelength_nm,
-            "image_plane": plane.name(),
-            "image_z": w.image_z,
-            "pupil_samples": w.grid.n,
-            "rays": w.opd_waves.len(),
-            "vignetted": w.vignetted,
-            "rms_waves": s.rms_to_chief,
-            "pv_waves": s.pv_to_chief,
-            "rms_centroid_waves": s.rms_to_centroid,
-            "pv_centroid_waves": s.pv_to_centroid,
-            "strehl": s.strehl,
-            "zernike_fringe": fringe.as_ref().map(|f| &f.coefficients),
-            "zernike_fringe_order": "Fringe (University of Arizona) order, 1-based, not normalised, waves",
-            "zernike_standard": standard.as_ref().map(|f| &f.coefficients),
-            "zernike_standard_order": "Standard (Noll) order, 1-based, RMS-normalised, waves",
-            "zernike_fringe_rms_residual_waves": fringe.as_ref().map(|f| f.rms_residual),
-            "zernike_standard_rms_residual_waves": standard.as_ref().map(|f| f.rms_residual),
-            "exit_pupil_mm": exit.map(|e| e.diameter),
-            "exit_pupil_z": exit.map(|e| e.z),
-            "reference_radius_mm": w.reference_radius,
-            "chief_image": [w.chief_image.x, w.chief_image.y, w.chief_image.z],
-            "samples": samples,
-        }))?;
+        let fits = lens::report::Fits { fringe: fringe.as_ref(), standard: standard.as_ref() };
+        print_json(&lens::report::wavefront(field_deg, plane, &w, &s, fits, args.samples))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(

@@ -37,6 +37,7 @@ pub mod glass;
 pub mod io;
 pub mod model;
 pub mod paraxial;
+pub mod report;
 mod simd;
 pub mod trace;
 

@@ -1,0 +1,225 @@
+//! The analyses at one field, each the dict of its CLI command's `--json`
+//! (`lens::report`), computed by the same library calls in the same order
+//! so that the numbers agree to the bit: `fan`, `spot`, `wavefront`, `mtf`.
+//! Arguments follow the flags: `field_deg`, `wavelength_nm` (None: the
+//! prescription's, or for `spot` every wavelength with its weight), `aim`
+//! ("auto", "paraxial", "real"), `film` ("image": the prescription's
+//! image surface; "paraxial"; or a distance in mm behind the last vertex).
+
+use crate::convert::to_py;
+use crate::errors::{OpticsError, OrPyErr};
+use crate::prescription::{warn_range, Prescription};
+use lens::analysis::fan::ImagePlane;
+use lens::analysis::{Aim, Field, Launcher};
+use lens::paraxial::FirstOrder;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+
+/// The aiming named `aim`.
+fn aim_of(aim: &str) -> PyResult<Aim> {
+    match aim.to_ascii_lowercase().as_str() {
+        "auto" => Ok(Aim::Auto),
+        "paraxial" => Ok(Aim::Paraxial),
+        "real" => Ok(Aim::Real),
+        _ => Err(PyValueError::new_err(format!("aim={aim:?}: give \"auto\", \"paraxial\" or \"real\""))),
+    }
+}
+
+/// The image plane `film` names (as the CLI's `--film`).
+fn plane_of(film: Option<&Bound<'_, PyAny>>) -> PyResult<ImagePlane> {
+    let Some(film) = film else { return Ok(ImagePlane::ImageSurface) };
+    if let Ok(d) = film.extract::<f64>() {
+        return match d {
+            d if d.is_finite() && d > 0.0 => Ok(ImagePlane::Film(d)),
+            _ => Err(PyValueError::new_err(format!(
+                "film={}: give a distance behind the last vertex (> 0 mm), \"image\" or \"paraxial\"",
+                lens::error::exact(d)
+            ))),
+        };
+    }
+    match film.extract::<String>()?.trim().to_ascii_lowercase().as_str() {
+        "image" | "image-surface" => Ok(ImagePlane::ImageSurface),
+        "paraxial" => Ok(ImagePlane::Paraxial),
+        other => Err(PyValueError::new_err(format!(
+            "film={other:?}: give \"image\" (the prescription's image surface), \"paraxial\", or a distance in mm behind the last vertex"
+        ))),
+    }
+}
+
+/// Refuses a field angle that is not one.
+fn check_field(field_deg: f64) -> PyResult<()> {
+    if field_deg.is_finite() && field_deg.abs() < 90.0 {
+        Ok(())
+    } else {
+        Err(PyValueError::new_err(format!(
+            "field_deg={}: give an angle above -90 and below 90 degrees",
+            lens::error::exact(field_deg)
+        )))
+    }
+}
+
+/// What every analysis starts from: the prescription at its wavelength
+/// and at the one traced, the first order, the launcher of the field.
+struct Setup {
+    p: lens::Prescription,
+    traced: lens::Prescription,
+    launcher: Launcher,
+    /// The aiming asked for (before the field resolves "auto").
+    aim: Aim,
+}
+
+impl Setup {
+    fn new(py: Python<'_>, pr: &Prescription, field_deg: f64, wavelength_nm: Option<f64>, aim: &str) -> PyResult<Self> {
+        check_field(field_deg)?;
+        let aim = aim_of(aim)?;
+        let traced = pr.at(py, wavelength_nm)?;
+        let p = pr.inner.clone();
+        let first = FirstOrder::of(&p).py()?;
+        let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), aim).py()?;
+        Ok(Setup { p, traced, launcher, aim })
+    }
+}
+
+/// Tangential and sagittal ray fans at `field_deg`, `points` pupil points
+/// each (the keys of `lens fan --json`).
+#[pyfunction]
+#[pyo3(signature = (prescription, field_deg=0.0, points=21, wavelength_nm=None, aim="auto", film=None))]
+pub fn fan<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    field_deg: f64,
+    points: usize,
+    wavelength_nm: Option<f64>,
+    aim: &str,
+    film: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    if points < 2 {
+        return Err(PyValueError::new_err(format!("points={points}: a fan needs at least 2 points")));
+    }
+    let plane = plane_of(film)?;
+    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let fan = py.detach(|| lens::analysis::fan::fan_traced(&s.p, &s.traced, &s.launcher, points, plane)).py()?;
+    to_py(py, &serde_json::to_value(&fan).map_err(|e| OpticsError::new_err(e.to_string()))?)
+}
+
+/// The spot diagram at `field_deg` (the keys of `lens spot --json`):
+/// `pattern` "gauss" (n rings), "square", "hexapolar" or "random"; at
+/// `wavelength_nm`, or every wavelength of the prescription with its
+/// weight where None.
+#[pyfunction]
+#[pyo3(signature = (prescription, field_deg=0.0, pattern="gauss", n=12, wavelength_nm=None, aim="auto", film=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn spot<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    field_deg: f64,
+    pattern: &str,
+    n: usize,
+    wavelength_nm: Option<f64>,
+    aim: &str,
+    film: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use lens::analysis::pattern::Pattern;
+    let pattern = match pattern.to_ascii_lowercase().as_str() {
+        "gauss" => Pattern::Gauss,
+        "square" => Pattern::Square,
+        "hexapolar" => Pattern::Hexapolar,
+        "random" => Pattern::Random,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "pattern={other:?}: give \"gauss\", \"square\", \"hexapolar\" or \"random\""
+            )))
+        }
+    };
+    let plane = plane_of(film)?;
+    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let waves: Vec<(f64, f64)> = s.p.wavelengths_nm().iter().copied().zip(s.p.wavelength_weights()).collect();
+    if wavelength_nm.is_none() {
+        warn_range(py, &s.p, s.p.wavelengths_nm())?;
+    }
+    let spot = py
+        .detach(|| match wavelength_nm {
+            Some(_) => lens::analysis::spot::spot_traced(&s.p, &s.traced, &s.launcher, pattern, n, plane),
+            None => lens::analysis::spot::spot_polychromatic(&s.p, &s.launcher, pattern, n, plane, &waves),
+        })
+        .py()?;
+    to_py(py, &lens::report::spot(field_deg, &spot))
+}
+
+/// The wavefront error at `field_deg` (the keys of `lens wavefront
+/// --json`): RMS and P-V to the chief ray and to the centroid, Strehl,
+/// both 37-term Zernike fits; on a `grid` x `grid` pupil grid (None: the
+/// default, finer where the wavefront needs it); with `samples`, the map.
+#[pyfunction]
+#[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, aim="auto", film=None, grid=None, samples=false))]
+#[allow(clippy::too_many_arguments)]
+pub fn wavefront<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    field_deg: f64,
+    wavelength_nm: Option<f64>,
+    aim: &str,
+    film: Option<&Bound<'py, PyAny>>,
+    grid: Option<usize>,
+    samples: bool,
+) -> PyResult<Bound<'py, PyAny>> {
+    use lens::analysis::wave::zernike::{fit, ZernikeKind, TERMS};
+    let plane = plane_of(film)?;
+    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let report = py
+        .detach(|| -> Result<serde_json::Value, lens::OpticsError> {
+            let w = match grid {
+                Some(n) => lens::analysis::wave::wavefront(&s.p, &s.traced, &s.launcher, n, plane)?,
+                None => lens::analysis::wave::wavefront_auto(&s.p, &s.traced, &s.launcher, plane)?,
+            };
+            let st = lens::analysis::wave::stats(&w);
+            let fringe = fit(&w, ZernikeKind::Fringe, TERMS);
+            let standard = fit(&w, ZernikeKind::Standard, TERMS);
+            let fits = lens::report::Fits { fringe: fringe.as_ref(), standard: standard.as_ref() };
+            Ok(lens::report::wavefront(field_deg, plane, &w, &st, fits, samples))
+        })
+        .py()?;
+    to_py(py, &report)
+}
+
+/// The diffraction MTF at `field_deg` and `frequencies` (cycles/mm; the
+/// keys of `lens mtf --json`), monochromatic at `wavelength_nm` or, with
+/// `polychromatic`, over the prescription's wavelengths and weights.
+#[pyfunction]
+#[pyo3(signature = (prescription, frequencies, field_deg=0.0, wavelength_nm=None, polychromatic=false, aim="auto", film=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn mtf<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    frequencies: Vec<f64>,
+    field_deg: f64,
+    wavelength_nm: Option<f64>,
+    polychromatic: bool,
+    aim: &str,
+    film: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use lens::analysis::wave::mtf::{cutoffs, mtf, polychromatic_mtf};
+    if frequencies.is_empty() {
+        return Err(PyValueError::new_err("frequencies: give at least one frequency in cycles/mm"));
+    }
+    let plane = plane_of(film)?;
+    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let waves: Option<Vec<(f64, f64)>> =
+        polychromatic.then(|| s.p.wavelengths_nm().iter().copied().zip(s.p.wavelength_weights()).collect());
+    if polychromatic {
+        warn_range(py, &s.p, s.p.wavelengths_nm())?;
+    }
+    let report = py
+        .detach(|| -> Result<serde_json::Value, lens::OpticsError> {
+            let first = FirstOrder::of(&s.p)?;
+            let axis = Launcher::with_first(&s.p, &first, Field::at_angle(&s.p, &first, 0.0), s.aim)?;
+            let axis_cutoff = cutoffs(&s.p, &s.traced, &axis, plane.z(&s.p, &axis)?)?.0;
+            let m = match &waves {
+                Some(w) => polychromatic_mtf(&s.p, &s.launcher, plane, &frequencies, w)?,
+                None => mtf(&s.p, &s.traced, &s.launcher, plane, &frequencies)?,
+            };
+            Ok(lens::report::mtf(field_deg, plane, &m, waves.as_deref(), axis_cutoff, None))
+        })
+        .py()?;
+    to_py(py, &report)
+}

@@ -1,0 +1,210 @@
+//! `lens.trace`: rays from numpy through a prescription to its film, on
+//! the batch tracer, in blocks on all cores (or `threads`), the GIL
+//! released. Rays cross as (N, 6) float64 arrays [x y z dx dy dz] in the
+//! lens frame (mm, z from the first vertex, +z toward the image); each
+//! block is laid out for the tracer inside its own task, so nothing is
+//! copied on the Python side or by one thread alone.
+
+use crate::errors::OrPyErr;
+use crate::prescription::Prescription;
+use numpy::ndarray::{Array1, Array2};
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use rayon::prelude::*;
+
+/// The status codes of [`trace`], by value: 0 reached the film, 1 missed a
+/// surface, 2 blocked by a clear aperture or the stop, 3 total internal
+/// reflection, 4 an asphere's intersection did not converge.
+pub const STATUS_NAMES: [&str; 5] = ["reached", "missed", "blocked", "total_internal_reflection", "not_converged"];
+
+/// What [`trace`] returns: where each ray ended, and its status code.
+type Traced<'py> = (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<u8>>);
+
+/// Rays a task traces at once.
+const BLOCK: usize = 4096;
+
+/// What the rays are traced at: one prescription's wavelength, or each
+/// ray its own.
+enum Light<'a> {
+    One(lens::Tracer),
+    Each(lens::Tracer, &'a [f64]),
+}
+
+/// Traces `rays` ((N, 6) float64, C-contiguous: x y z dx dy dz, mm, in
+/// the lens frame; directions need not be unit, they are normalised)
+/// through `prescription` to its film. `wavelength_nm`: None (the
+/// prescription's wavelength), a number, or an (N,) float64 array, each
+/// ray its own. Returns `(out, status)`: out (N, 6) where each ray ended
+/// (on the film for status 0; where it stopped otherwise) and its unit
+/// direction, status (N,) uint8 codes (`lens.STATUS_NAMES`).
+#[pyfunction]
+#[pyo3(signature = (prescription, rays, wavelength_nm=None, threads=None))]
+pub fn trace<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    rays: &Bound<'py, PyAny>,
+    wavelength_nm: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
+) -> PyResult<Traced<'py>> {
+    let rays = float_array::<numpy::Ix2>(rays, "rays", "(N, 6)")?;
+    let ro = rays.readonly();
+    if ro.shape()[1] != 6 {
+        return Err(PyValueError::new_err(format!(
+            "rays: expected shape (N, 6) [x y z dx dy dz], got {:?}",
+            ro.shape()
+        )));
+    }
+    let input = ro.as_slice().map_err(|_| {
+        PyValueError::new_err("rays: expected a C-contiguous array (np.ascontiguousarray(rays) makes one)")
+    })?;
+    let n = input.len() / 6;
+    // the wavelength: the prescription's, one, or one per ray
+    let per_ray = match wavelength_nm {
+        Some(w) if w.cast::<numpy::PyUntypedArray>().is_ok() => {
+            Some(float_array::<numpy::Ix1>(w, "wavelength_nm", "(N,)")?.readonly())
+        }
+        _ => None,
+    };
+    let one = match (wavelength_nm, &per_ray) {
+        (Some(w), None) => Some(w.extract::<f64>().map_err(|_| {
+            PyTypeError::new_err("wavelength_nm: expected None, a number (nm) or a float64 array of shape (N,)")
+        })?),
+        _ => None,
+    };
+    let p = prescription.at(py, one)?;
+    let each = match &per_ray {
+        Some(w) => {
+            let w = w.as_slice().map_err(|_| PyValueError::new_err("wavelength_nm: expected a C-contiguous array"))?;
+            if w.len() != n {
+                return Err(PyValueError::new_err(format!(
+                    "wavelength_nm: expected one wavelength per ray, shape ({n},), got ({},)",
+                    w.len()
+                )));
+            }
+            if let Some(i) = w.iter().position(|v| !(v.is_finite() && *v > 0.0)) {
+                return Err(PyValueError::new_err(format!(
+                    "wavelength_nm[{i}] = {}: give positive wavelengths in nm",
+                    w[i]
+                )));
+            }
+            let lo = w.iter().fold(f64::INFINITY, |a, b| a.min(*b));
+            let hi = w.iter().fold(0.0f64, |a, b| a.max(*b));
+            crate::prescription::warn_range(py, &p, &[lo, hi])?;
+            Some(w)
+        }
+        None => None,
+    };
+    check_rays(input)?;
+    let light = match each {
+        Some(w) => Light::Each(lens::Tracer::forward(&p), w),
+        None => Light::One(lens::Tracer::forward(&p)),
+    };
+    let pool = pool(threads)?;
+    let (out, status) = py.detach(|| pool.install(|| run(input, &light)));
+    let (out, status) = (out.py()?, status);
+    let out = Array2::from_shape_vec((n, 6), out).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok((out.into_pyarray(py), Array1::from_vec(status).into_pyarray(py)))
+}
+
+/// Every block traced into the output arrays.
+fn run(input: &[f64], light: &Light) -> (Result<Vec<f64>, lens::OpticsError>, Vec<u8>) {
+    let n = input.len() / 6;
+    let mut out = vec![0.0; n * 6];
+    let mut status = vec![0u8; n];
+    let result: Result<(), lens::OpticsError> = out
+        .par_chunks_mut(BLOCK * 6)
+        .zip(status.par_chunks_mut(BLOCK))
+        .zip(input.par_chunks(BLOCK * 6))
+        .enumerate()
+        .try_for_each_init(lens::trace::SpectralBatch::default, |batch, (k, ((out, status), rays))| {
+            trace_block(batch, k * BLOCK, rays, light, out, status)
+        });
+    (result.map(|_| out), status)
+}
+
+/// One block, its first ray the input's `first`: laid out as the
+/// tracer's arrays, traced, written back.
+fn trace_block(
+    batch: &mut lens::trace::SpectralBatch,
+    first: usize,
+    rays: &[f64],
+    light: &Light,
+    out: &mut [f64],
+    status: &mut [u8],
+) -> Result<(), lens::OpticsError> {
+    let b = &mut batch.rays;
+    b.clear();
+    batch.wavelength_nm.clear();
+    for r in rays.chunks_exact(6) {
+        let d = glam::DVec3::new(r[3], r[4], r[5]).normalize();
+        b.x.push(r[0]);
+        b.y.push(r[1]);
+        b.z.push(r[2]);
+        b.dx.push(d.x);
+        b.dy.push(d.y);
+        b.dz.push(d.z);
+        b.opl.push(0.0);
+        b.status.push(0);
+    }
+    match light {
+        Light::One(t) => t.trace_soa(&mut batch.rays),
+        Light::Each(t, w) => {
+            batch.wavelength_nm.extend_from_slice(&w[first..first + rays.len() / 6]);
+            t.trace_spectral(batch)?
+        }
+    }
+    let b = &batch.rays;
+    for (i, (o, s)) in out.chunks_exact_mut(6).zip(status.iter_mut()).enumerate() {
+        o.copy_from_slice(&[b.x[i], b.y[i], b.z[i], b.dx[i], b.dy[i], b.dz[i]]);
+        *s = (b.status[i] & 7) as u8;
+    }
+    Ok(())
+}
+
+/// Refuses rays with a coordinate that is not finite or a zero direction,
+/// naming the first.
+fn check_rays(input: &[f64]) -> PyResult<()> {
+    let bad = input
+        .par_chunks(6)
+        .position_first(|r| !r.iter().all(|v| v.is_finite()) || (r[3] == 0.0 && r[4] == 0.0 && r[5] == 0.0));
+    match bad {
+        Some(i) => Err(PyValueError::new_err(format!(
+            "rays[{i}] = {:?}: every coordinate must be finite and the direction (dx, dy, dz) not zero",
+            &input[i * 6..i * 6 + 6]
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// `v` as a float64 numpy array of dimension D, or a TypeError naming
+/// `what` and the expected `shape`.
+pub(crate) fn float_array<'py, D: numpy::ndarray::Dimension>(
+    v: &Bound<'py, PyAny>,
+    what: &str,
+    shape: &str,
+) -> PyResult<Bound<'py, numpy::PyArray<f64, D>>> {
+    if let Ok(a) = v.cast::<numpy::PyArray<f64, D>>() {
+        return Ok(a.clone());
+    }
+    let described = match v.cast::<numpy::PyUntypedArray>() {
+        Ok(a) => {
+            let dims: Vec<String> = a.shape().iter().map(usize::to_string).collect();
+            format!("an array of dtype {} and shape ({})", a.dtype(), dims.join(", "))
+        }
+        Err(_) => format!("a {}", v.get_type().name().map(|n| n.to_string()).unwrap_or_default()),
+    };
+    Err(PyTypeError::new_err(format!(
+        "{what}: expected a float64 numpy array of shape {shape}, got {described} (np.asarray(x, dtype=np.float64) converts)"
+    )))
+}
+
+/// A pool of `threads` threads, or the global one's size where None.
+pub(crate) fn pool(threads: Option<usize>) -> PyResult<rayon::ThreadPool> {
+    let n = match threads {
+        Some(0) => return Err(PyValueError::new_err("threads=0: give at least 1, or None for every core")),
+        Some(n) => n,
+        None => rayon::current_num_threads(),
+    };
+    rayon::ThreadPoolBuilder::new().num_threads(n).build().map_err(|e| PyValueError::new_err(e.to_string()))
+}

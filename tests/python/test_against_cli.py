@@ -1,0 +1,100 @@
+"""The package against the CLI's --json on every shipped lens: the same
+keys and the same numbers to the last bit (the same library calls build
+both), or the same error where the CLI refuses."""
+
+import numpy as np
+import pytest
+
+import lens
+from conftest import SHIPPED, cli_json
+
+
+def plain(v):
+    """A package result as JSON-like Python values (arrays to lists)."""
+    if isinstance(v, np.ndarray):
+        return v.tolist()
+    if isinstance(v, dict):
+        return {k: plain(x) for k, x in v.items()}
+    if isinstance(v, list):
+        return [plain(x) for x in v]
+    return v
+
+
+def check(py_call, *cli_args):
+    """The package's call and the CLI's JSON agree, or both refuse with
+    the same message."""
+    expected, stderr = cli_json(*cli_args)
+    if expected is None:
+        with pytest.raises(lens.LensError) as e:
+            py_call()
+        assert str(e.value) in stderr, (str(e.value), stderr)
+        return None
+    got = plain(py_call())
+    assert got == expected
+    return got
+
+
+def name(p):
+    return p.relative_to(p.parents[1]).as_posix()
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=name)
+def test_info(path):
+    p = lens.load(path)
+    check(lambda: p.info(), "info", str(path))
+    check(lambda: p.info(wavelength_nm=486.1327, object_distance_mm=2000.0),
+          "info", str(path), "--wavelength-nm", "486.1327", "--object-distance", "2000")
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=name)
+def test_fan_and_spot(path):
+    p = lens.load(path)
+    field = p.fields_deg[-1] / 2 if p.fields_deg else 5.0
+    check(lambda: lens.fan(p, field_deg=field, points=11), "fan", str(path), "--field-deg", repr(field), "--points", "11")
+    check(lambda: lens.spot(p, field_deg=field), "spot", str(path), "--field-deg", repr(field))
+    check(lambda: lens.spot(p, wavelength_nm=656.2725, pattern="hexapolar", n=6, film="paraxial"),
+          "spot", str(path), "--wavelength-nm", "656.2725", "--pattern", "hexapolar", "--n", "6", "--film", "paraxial")
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=name)
+def test_wave(path):
+    p = lens.load(path)
+    got = check(lambda: lens.wavefront(p, grid=32), "wavefront", str(path), "--grid", "32")
+    if got is not None:
+        assert len(got["zernike_fringe"]) == 37
+    check(lambda: lens.mtf(p, [10.0, 20.0]), "mtf", str(path), "--frequencies", "10,20")
+
+
+def test_off_axis_wave_and_polychromatic_mtf():
+    path = "lens-data/double-gauss-50mm.json"
+    p = lens.load(path)
+    check(lambda: lens.wavefront(p, field_deg=10.0, aim="real", samples=True),
+          "wavefront", path, "--field-deg", "10", "--aim", "real", "--samples")
+    check(lambda: lens.mtf(p, [10.0, 30.0], field_deg=14.0, polychromatic=True),
+          "mtf", path, "--frequencies", "10,30", "--field-deg", "14", "--polychromatic")
+
+
+def test_with_f_number_is_the_cli_flag():
+    path = "lens-data/double-gauss-50mm.json"
+    p = lens.load(path).with_f_number(4.0)
+    check(lambda: p.info(), "info", path, "--f-number", "4")
+
+
+def test_validate_file_and_findings():
+    path = "lens-data/double-gauss-50mm.json"
+    expected, _ = cli_json("validate", path)
+    assert lens.validate_file(path) == expected
+    assert lens.load(path).validate() == expected["findings"]
+
+
+def test_glass_index_is_the_cli():
+    g = lens.glass("SCHOTT:N-BK7")
+    for nm in (404.6561, 587.5618, 1013.98):
+        expected, _ = cli_json("glass", "SCHOTT:N-BK7", "--wavelength-nm", repr(nm))
+        assert g.index(nm) == expected["n"]
+    assert (g.nd, g.vd, g.name) == (expected["nd"], expected["vd"], "SCHOTT:N-BK7")
+    nm = np.linspace(400.0, 700.0, 301)
+    n = g.index(nm)
+    assert n.shape == nm.shape and n.dtype == np.float64
+    assert all(n[i] == g.index(float(nm[i])) for i in range(0, 301, 30))
+    assert g.index(nm.reshape(7, 43)).shape == (7, 43)

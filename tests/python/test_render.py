@@ -1,0 +1,20 @@
+"""lens.render: a scene into numpy, with the CLI's overrides."""
+
+import numpy as np
+
+import lens
+
+
+def test_render_into_numpy():
+    img = lens.render("lens-data/scenes/bokeh-thin-circle.json", width=48, height=32, spp=2, threads=2)
+    assert img.shape == (32, 48, 3) and img.dtype == np.float32
+    assert np.isfinite(img).all() and img.max() > 0
+    again = lens.render("lens-data/scenes/bokeh-thin-circle.json", width=48, height=32, spp=2, threads=1)
+    assert np.array_equal(img, again)
+    other = lens.render("lens-data/scenes/bokeh-thin-circle.json", width=48, height=32, spp=2, seed=7)
+    assert not np.array_equal(img, other)
+
+
+def test_real_lens_with_an_f_number():
+    img = lens.render("lens-data/scenes/bokeh-double-gauss.json", width=40, height=24, spp=2, f_number=2.8)
+    assert img.shape == (24, 40, 3) and np.isfinite(img).all()

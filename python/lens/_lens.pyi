@@ -23,6 +23,9 @@ __all__ = [
     "spot",
     "wavefront",
     "mtf",
+    "psf",
+    "coc",
+    "chromatic",
     "render",
     "STATUS_NAMES",
 ]
@@ -121,6 +124,30 @@ def mtf(
     polychromatic: bool = False,
     aim: str = "auto",
     film: _Film = None,
+) -> dict[str, Any]: ...
+def psf(
+    prescription: Prescription,
+    field_deg: float = 0.0,
+    wavelength_nm: Optional[float] = None,
+    method: str = "fft",
+    pad: int = 4,
+    pixels: int = 64,
+    grid: Optional[int] = None,
+    polychromatic: bool = False,
+    aim: str = "auto",
+    film: _Film = None,
+) -> dict[str, Any]: ...
+def coc(
+    prescription: Prescription,
+    focus_mm: float,
+    distances: list[float],
+    wavelength_nm: Optional[float] = None,
+) -> dict[str, Any]: ...
+def chromatic(
+    prescription: Prescription,
+    field_deg: float = 0.0,
+    max_field_deg: Optional[float] = None,
+    aim: str = "auto",
 ) -> dict[str, Any]: ...
 def render(
     scene: _Path,

@@ -98,3 +98,30 @@ def test_glass_index_is_the_cli():
     assert n.shape == nm.shape and n.dtype == np.float64
     assert all(n[i] == g.index(float(nm[i])) for i in range(0, 301, 30))
     assert g.index(nm.reshape(7, 43)).shape == (7, 43)
+
+
+@pytest.mark.parametrize("path", SHIPPED, ids=name)
+def test_coc_and_chromatic(path):
+    p = lens.load(path)
+    check(lambda: lens.coc(p, 2000.0, [1000.0, 5000.0, float("inf")]),
+          "coc", str(path), "--focus-mm", "2000", "--distances", "1000,5000,inf")
+    check(lambda: lens.chromatic(p), "chromatic", str(path))
+
+
+def test_psf_fft_huygens_polychromatic():
+    path = "lens-data/double-gauss-50mm.json"
+    p = lens.load(path)
+    for call, args in [
+        (lambda: lens.psf(p, field_deg=10.0), ("--field-deg", "10")),
+        (lambda: lens.psf(p, method="huygens", pixels=32, grid=48), ("--method", "huygens", "--pixels", "32", "--grid", "48")),
+        (lambda: lens.psf(p, field_deg=5.0, polychromatic=True, pad=3), ("--field-deg", "5", "--polychromatic", "--pad", "3")),
+    ]:
+        result = call()
+        image = result.pop("intensity")
+        assert image.shape == (result["size"], result["size"]) and image.dtype == np.float64
+        assert image.max() == result["peak"]
+        check(lambda: result, "psf", path, *args)
+    with pytest.raises(lens.OpticsError, match="FFT"):
+        lens.psf(p, method="huygens", polychromatic=True)
+    with pytest.raises(lens.OpticsError, match="2 to 64"):
+        lens.psf(p, pad=1)

@@ -3,15 +3,9 @@
 
 use crate::args::{AimArgs, FieldArgs, JsonArgs, LensArgs, PlotArgs};
 use crate::{print_json, CmdResult};
-use lens::analysis::chromatic::chromatic;
-use lens::analysis::curves::largest_field_deg;
+use lens::analysis::chromatic::{chromatic, default_max_field_deg};
 use lens::error::Fixed;
-use lens::paraxial::FirstOrder;
 use std::process::ExitCode;
-
-/// Half the diagonal of a 36 x 24 mm frame, mm: the default largest field
-/// is the angle it subtends at the focal length.
-const HALF_DIAGONAL_MM: f64 = 21.633;
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -42,17 +36,7 @@ pub fn run(a: Args) -> CmdResult {
     a.lens.catalogs.report(&p, p.wavelengths_nm())?;
     let max_field = match a.max_field_deg {
         Some(m) => m,
-        // the design's own largest field where it names one, else the
-        // frame's corner, but no further than the chief ray reaches
-        None => match p.fields_deg().iter().copied().fold(0.0, f64::max) {
-            design if design > 0.0 => design,
-            _ => {
-                let corner = (HALF_DIAGONAL_MM / FirstOrder::of(&p)?.efl.abs()).atan().to_degrees().min(60.0);
-                // 2% inside the primary's last field: there the other
-                // wavelengths' rays, launched as the primary's, still pass
-                corner.min(0.98 * largest_field_deg(&p, a.aim.aim())?)
-            }
-        },
+        None => default_max_field_deg(&p, a.aim.aim())?,
     };
     if !(max_field.is_finite() && max_field > 0.0 && max_field < 90.0) {
         return Err(

@@ -3,12 +3,10 @@
 
 use crate::args::{AimArgs, FieldArgs, GridArgs, JsonArgs, LensArgs, PlaneArgs, PlotArgs, WavelengthArgs};
 use crate::{print_json, CmdResult};
-use lens::analysis::wave::mtf::cutoffs;
-use lens::analysis::wave::psf::{fft_psf, huygens_psf, polychromatic_psf, Psf};
-use lens::analysis::wave::{stats, wavefront, wavefront_auto};
+use lens::analysis::wave::field_psf::{field_psf, PsfOptions};
+use lens::analysis::wave::psf::{Psf, PsfMethod};
 use lens::analysis::{Field, Launcher};
 use lens::paraxial::FirstOrder;
-use serde_json::json;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -78,67 +76,29 @@ pub fn run(args: Args) -> CmdResult {
     let field_deg = args.field.field_deg;
     crate::args::check_fields("--field-deg", &[field_deg])?;
     let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), args.aim.aim())?;
-    let w = args.grid.wavefront(&p, &traced, &launcher, plane)?;
-    let s = stats(&w);
-    let (ct, cs) = cutoffs(&p, &traced, &launcher, w.image_z)?;
     if args.polychromatic && matches!(args.method, MethodArg::Huygens) {
         return Err("--polychromatic sums FFT (Fraunhofer) images on one grid; leave out --method huygens".into());
     }
-    let psf = match args.method {
-        MethodArg::Fft if args.polychromatic => {
-            args.lens.catalogs.report(&p, p.wavelengths_nm())?;
-            let mut parts = Vec::new();
-            for (nm, weight) in p.wavelengths_nm().iter().copied().zip(p.wavelength_weights()) {
-                let at = p.at_wavelength(nm)?;
-                // each wavelength on the primary's grid: its own wavefront
-                // fine enough for it
-                let wl = wavefront(&p, &at, &launcher, w.grid.n, plane)
-                    .or_else(|_| wavefront_auto(&p, &at, &launcher, plane))?;
-                let c = cutoffs(&p, &at, &launcher, w.image_z)?;
-                parts.push((wl, c, weight));
-            }
-            let refs: Vec<_> = parts.iter().map(|(wl, c, weight)| (wl, *c, *weight)).collect();
-            let size = args.pad * w.grid.n;
-            polychromatic_psf(&refs, size, (1.0 / (args.pad as f64 * cs), 1.0 / (args.pad as f64 * ct)), w.chief_image)
-        }
-        MethodArg::Fft => fft_psf(&w, (ct, cs), args.pad),
-        MethodArg::Huygens => {
-            huygens_psf(&w, args.pixels, (1.0 / (args.pad as f64 * cs), 1.0 / (args.pad as f64 * ct)), (ct, cs))
-        }
+    if args.polychromatic {
+        args.lens.catalogs.report(&p, p.wavelengths_nm())?;
+    }
+    let options = PsfOptions {
+        method: match args.method {
+            MethodArg::Fft => PsfMethod::Fft,
+            MethodArg::Huygens => PsfMethod::Huygens,
+        },
+        pad: args.pad,
+        pixels: args.pixels,
+        grid: args.grid.grid,
+        polychromatic: args.polychromatic,
     };
-    let centroid = psf.centroid();
-    // encircled energy out to most of the image's half-width
+    let f = field_psf(&p, &traced, &launcher, plane, &options)?;
+    let (w, s, psf, centroid) = (&f.wavefront, &f.stats, &f.psf, f.centroid);
+    let (radii, ee, geo_ee) = (&f.radii_mm, f.encircled.as_slice(), f.geometric_encircled.as_slice());
     let reach = 0.45 * psf.size as f64 * psf.pixel_mm.0.min(psf.pixel_mm.1);
-    let radii: Vec<f64> = (1..=60).map(|k| reach * k as f64 / 60.0).collect();
-    let ee = psf.encircled_energy(centroid, &radii);
-    let sq = psf.ensquared_energy(centroid, &radii);
-    // the geometric encircled energy of the same field's spot (48 Gauss
-    // rings), about its centroid
-    let spot = match args.polychromatic {
-        true => {
-            let waves: Vec<(f64, f64)> = p.wavelengths_nm().iter().copied().zip(p.wavelength_weights()).collect();
-            lens::analysis::spot::spot_polychromatic(
-                &p,
-                &launcher,
-                lens::analysis::pattern::Pattern::Gauss,
-                48,
-                plane,
-                &waves,
-            )?
-        }
-        false => lens::analysis::spot::spot_traced(
-            &p,
-            &traced,
-            &launcher,
-            lens::analysis::pattern::Pattern::Gauss,
-            48,
-            plane,
-        )?,
-    };
-    let geo_ee = spot.encircled_energy(&radii);
     if let Some(out) = &args.plot.plot {
         // crop to where the encircled energy reaches 99%, at least 16 pixels
-        let r99 = radii.iter().zip(&ee).find(|(_, f)| **f >= 0.99).map_or(reach, |(r, _)| *r);
+        let r99 = radii.iter().zip(ee).find(|(_, f)| **f >= 0.99).map_or(reach, |(r, _)| *r);
         let half = ((r99 / psf.pixel_mm.0.min(psf.pixel_mm.1)).ceil() as usize).clamp(16, psf.size / 2);
         let light = if args.polychromatic {
             format!("{} wavelengths", p.wavelengths_nm().len())
@@ -151,33 +111,13 @@ pub fn run(args: Args) -> CmdResult {
         let geometric: Vec<(f64, f64)> =
             std::iter::once((0.0, 0.0)).chain(radii.iter().copied().zip(geo_ee.iter().copied())).collect();
         let log = (!args.linear).then_some(4.0);
-        plot::save(&plot::wave::psf_chart(&title, &psf, half, log, &curve, &geometric), out)?;
+        plot::save(&plot::wave::psf_chart(&title, psf, half, log, &curve, &geometric), out)?;
     }
     if let Some(path) = &args.exr {
-        write_exr(&psf, path)?;
+        write_exr(psf, path)?;
     }
     if args.out.json {
-        print_json(&json!({
-            "method": psf.method.name(),
-            "field_deg": field_deg,
-            "wavelength_nm": w.wavelength_nm,
-            "wavelengths_nm": args.polychromatic.then(|| p.wavelengths_nm().to_vec()),
-            "wavelength_weights": args.polychromatic.then(|| p.wavelength_weights()),
-            "image_plane": plane.name(),
-            "image_z": w.image_z,
-            "pupil_samples": w.grid.n,
-            "size": psf.size,
-            "pixel_x_mm": psf.pixel_mm.0,
-            "pixel_y_mm": psf.pixel_mm.1,
-            "strehl": s.strehl,
-            "strehl_wavelength_nm": w.wavelength_nm,
-            "peak": psf.peak(),
-            "centroid_mm": [centroid.0, centroid.1],
-            "chief_image": [w.chief_image.x, w.chief_image.y, w.chief_image.z],
-            "encircled_energy": {"radius_mm": radii, "fraction": ee},
-            "geometric_encircled_energy": {"radius_mm": radii, "fraction": geo_ee},
-            "ensquared_energy": {"half_width_mm": radii, "fraction": sq},
-        }))?;
+        print_json(&lens::report::psf(field_deg, plane, &f))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
@@ -214,8 +154,8 @@ pub fn run(args: Args) -> CmdResult {
         outln!(
             "  encircled {:>3.0}%      within {} mm of the centroid (geometric, from the spot: {} mm)",
             target * 100.0,
-            at(&ee),
-            at(&geo_ee)
+            at(ee),
+            at(geo_ee)
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -1,6 +1,7 @@
 //! The analyses at one field, each the dict of its CLI command's `--json`
 //! (`lens::report`), computed by the same library calls in the same order
-//! so that the numbers agree to the bit: `fan`, `spot`, `wavefront`, `mtf`.
+//! so that the numbers agree to the bit: `fan`, `spot`, `wavefront`,
+//! `mtf`, `psf`, `coc`, `chromatic`.
 //! Arguments follow the flags: `field_deg`, `wavelength_nm` (None: the
 //! prescription's, or for `spot` every wavelength with its weight), `aim`
 //! ("auto", "paraxial", "real"), `film` ("image": the prescription's
@@ -222,4 +223,96 @@ pub fn mtf<'py>(
         })
         .py()?;
     to_py(py, &report)
+}
+
+/// Real circles of confusion for objects at `distances` (mm; `inf` for
+/// infinity) with the lens focused at `focus_mm`, beside the thin-lens
+/// formula (the keys of `lens coc --json`).
+#[pyfunction]
+#[pyo3(signature = (prescription, focus_mm, distances, wavelength_nm=None))]
+pub fn coc<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    focus_mm: f64,
+    distances: Vec<f64>,
+    wavelength_nm: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
+    if distances.is_empty() {
+        return Err(PyValueError::new_err("distances: give at least one object distance in mm (inf for infinity)"));
+    }
+    let p = prescription.at(py, wavelength_nm)?;
+    let t = py.detach(|| lens::analysis::coc::circle_of_confusion(&p, focus_mm, &distances)).py()?;
+    to_py(py, &serde_json::to_value(&t).map_err(|e| OpticsError::new_err(e.to_string()))?)
+}
+
+/// Colour (the keys of `lens chromatic --json`): focal shift against
+/// wavelength, lateral colour from the axis to `max_field_deg` (None: the
+/// design's largest field, else a 36 x 24 mm frame's corner), the
+/// polychromatic spot and each wavelength's fans at `field_deg`.
+#[pyfunction]
+#[pyo3(signature = (prescription, field_deg=0.0, max_field_deg=None, aim="auto"))]
+pub fn chromatic<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    field_deg: f64,
+    max_field_deg: Option<f64>,
+    aim: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let aim = aim_of(aim)?;
+    let p = &prescription.inner;
+    warn_range(py, p, p.wavelengths_nm())?;
+    let c = py
+        .detach(|| {
+            let max = match max_field_deg {
+                Some(m) => m,
+                None => lens::analysis::chromatic::default_max_field_deg(p, aim)?,
+            };
+            lens::analysis::chromatic::chromatic(p, field_deg, max, aim)
+        })
+        .py()?;
+    to_py(py, &serde_json::to_value(&c).map_err(|e| OpticsError::new_err(e.to_string()))?)
+}
+
+/// The point spread function at `field_deg` (the keys of `lens psf
+/// --json`, and "intensity": the image, rows from -y to +y, normalised so
+/// the same pupil without aberration peaks at 1): `method` "fft" or
+/// "huygens", `pad` samples per lambda N_w, `pixels` across (Huygens),
+/// `polychromatic` the prescription's wavelengths summed (FFT).
+#[pyfunction]
+#[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, method="fft", pad=4, pixels=64, grid=None,
+    polychromatic=false, aim="auto", film=None))]
+#[allow(clippy::too_many_arguments)]
+pub fn psf<'py>(
+    py: Python<'py>,
+    prescription: &Prescription,
+    field_deg: f64,
+    wavelength_nm: Option<f64>,
+    method: &str,
+    pad: usize,
+    pixels: usize,
+    grid: Option<usize>,
+    polychromatic: bool,
+    aim: &str,
+    film: Option<&Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    use lens::analysis::wave::field_psf::{field_psf, PsfOptions};
+    use lens::analysis::wave::psf::PsfMethod;
+    let method = match method.to_ascii_lowercase().as_str() {
+        "fft" => PsfMethod::Fft,
+        "huygens" => PsfMethod::Huygens,
+        other => return Err(PyValueError::new_err(format!("method={other:?}: give \"fft\" or \"huygens\""))),
+    };
+    let plane = plane_of(film)?;
+    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    if polychromatic {
+        warn_range(py, &s.p, s.p.wavelengths_nm())?;
+    }
+    let options = PsfOptions { method, pad, pixels, grid, polychromatic };
+    let f = py.detach(|| field_psf(&s.p, &s.traced, &s.launcher, plane, &options)).py()?;
+    let report = to_py(py, &lens::report::psf(field_deg, plane, &f))?;
+    let n = f.psf.size;
+    let image = numpy::ndarray::Array2::from_shape_vec((n, n), f.psf.intensity)
+        .map_err(|e| OpticsError::new_err(e.to_string()))?;
+    report.set_item("intensity", numpy::IntoPyArray::into_pyarray(image, py))?;
+    Ok(report)
 }

@@ -30,6 +30,9 @@ fn _lens(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyses::spot, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::wavefront, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::mtf, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::psf, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::coc, m)?)?;
+    m.add_function(wrap_pyfunction!(analyses::chromatic, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
     m.add("STATUS_NAMES", trace::STATUS_NAMES.to_vec())?;
     Ok(())

@@ -175,3 +175,30 @@ pub fn mtf(
         })),
     })
 }
+
+/// `lens psf --json` of a field's PSF at `field_deg` on `plane`.
+pub fn psf(field_deg: f64, plane: ImagePlane, f: &crate::analysis::wave::field_psf::FieldPsf) -> Value {
+    let (w, psf, radii) = (&f.wavefront, &f.psf, &f.radii_mm);
+    let waves = f.wavelengths.as_ref();
+    json!({
+        "method": psf.method.name(),
+        "field_deg": field_deg,
+        "wavelength_nm": w.wavelength_nm,
+        "wavelengths_nm": waves.map(|w| w.iter().map(|x| x.0).collect::<Vec<_>>()),
+        "wavelength_weights": waves.map(|w| w.iter().map(|x| x.1).collect::<Vec<_>>()),
+        "image_plane": plane.name(),
+        "image_z": w.image_z,
+        "pupil_samples": w.grid.n,
+        "size": psf.size,
+        "pixel_x_mm": psf.pixel_mm.0,
+        "pixel_y_mm": psf.pixel_mm.1,
+        "strehl": f.stats.strehl,
+        "strehl_wavelength_nm": w.wavelength_nm,
+        "peak": psf.peak(),
+        "centroid_mm": [f.centroid.0, f.centroid.1],
+        "chief_image": [w.chief_image.x, w.chief_image.y, w.chief_image.z],
+        "encircled_energy": {"radius_mm": radii, "fraction": f.encircled},
+        "geometric_encircled_energy": {"radius_mm": radii, "fraction": f.geometric_encircled},
+        "ensquared_energy": {"half_width_mm": radii, "fraction": f.ensquared},
+    })
+}

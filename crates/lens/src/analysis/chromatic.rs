@@ -156,6 +156,26 @@ pub struct Chromatic {
     pub fans: Vec<WavelengthFan>,
 }
 
+/// Half the diagonal of a 36 x 24 mm frame, mm: the field a lens without
+/// design fields is asked about.
+const HALF_DIAGONAL_MM: f64 = 21.633;
+
+/// The largest field [`chromatic`] plots lateral colour to when none is
+/// asked: the design's own largest field where it names one, else the
+/// corner of a 36 x 24 mm frame (at most 60 degrees), but 2% inside the
+/// primary wavelength's last traceable field (there the other
+/// wavelengths' rays, launched as the primary's, still pass).
+pub fn default_max_field_deg(p: &Prescription, aim: Aim) -> Result<f64, OpticsError> {
+    match p.fields_deg().iter().copied().fold(0.0, f64::max) {
+        design if design > 0.0 => Ok(design),
+        _ => {
+            let efl = crate::paraxial::FirstOrder::of(p)?.efl.abs();
+            let corner = (HALF_DIAGONAL_MM / efl).atan().to_degrees().min(60.0);
+            Ok(corner.min(0.98 * crate::analysis::curves::largest_field_deg(p, aim)?))
+        }
+    }
+}
+
 /// The colour figures of `p` for its design object (at infinity, or at its
 /// finite `object_distance_mm`, where the fields are the object points whose
 /// chief rays make those angles, [`Field::at_angle`], and focus and focal

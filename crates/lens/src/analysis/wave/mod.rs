@@ -8,8 +8,12 @@
 //! - [`stats`]: RMS and peak-to-valley to the chief ray and to the
 //!   centroid, and the Strehl ratio.
 //! - [`zernike`]: Fringe and Standard Zernike polynomials and fits.
+//! - [`mtf`]: the diffraction MTF by the pupil autocorrelation.
+//! - [`psf`]: FFT, Huygens and matrix-Fourier PSFs; [`field_psf`]: a
+//!   field's PSF with its Strehl ratio and energy curves.
 
 mod autocorrelation;
+pub mod field_psf;
 pub mod mtf;
 pub mod opd;
 pub mod psf;

@@ -97,6 +97,7 @@ def fan(
     wavelength_nm: Optional[float] = None,
     aim: str = "auto",
     film: _Film = None,
+    threads: Optional[int] = None,
 ) -> dict[str, Any]: ...
 def spot(
     prescription: Prescription,
@@ -106,6 +107,7 @@ def spot(
     wavelength_nm: Optional[float] = None,
     aim: str = "auto",
     film: _Film = None,
+    threads: Optional[int] = None,
 ) -> dict[str, Any]: ...
 def wavefront(
     prescription: Prescription,
@@ -115,6 +117,7 @@ def wavefront(
     film: _Film = None,
     grid: Optional[int] = None,
     samples: bool = False,
+    threads: Optional[int] = None,
 ) -> dict[str, Any]: ...
 def mtf(
     prescription: Prescription,
@@ -124,6 +127,7 @@ def mtf(
     polychromatic: bool = False,
     aim: str = "auto",
     film: _Film = None,
+    threads: Optional[int] = None,
 ) -> dict[str, Any]: ...
 def psf(
     prescription: Prescription,
@@ -136,18 +140,21 @@ def psf(
     polychromatic: bool = False,
     aim: str = "auto",
     film: _Film = None,
+    threads: Optional[int] = None,
 ) -> dict[str, Any]: ...
 def coc(
     prescription: Prescription,
     focus_mm: float,
     distances: list[float],
     wavelength_nm: Optional[float] = None,
+    threads: Optional[int] = None,
 ) -> dict[str, Any]: ...
 def chromatic(
     prescription: Prescription,
     field_deg: float = 0.0,
     max_field_deg: Optional[float] = None,
     aim: str = "auto",
+    threads: Optional[int] = None,
 ) -> dict[str, Any]: ...
 def render(
     scene: _Path,

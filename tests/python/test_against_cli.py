@@ -125,3 +125,11 @@ def test_psf_fft_huygens_polychromatic():
         lens.psf(p, method="huygens", polychromatic=True)
     with pytest.raises(lens.OpticsError, match="2 to 64"):
         lens.psf(p, pad=1)
+
+
+def test_threads_do_not_change_a_bit():
+    p = lens.load("lens-data/double-gauss-50mm.json")
+    one = plain(lens.wavefront(p, field_deg=10.0, threads=1))
+    assert plain(lens.wavefront(p, field_deg=10.0, threads=2)) == one
+    assert plain(lens.mtf(p, [10.0, 40.0], field_deg=10.0, threads=1)) == plain(lens.mtf(p, [10.0, 40.0], field_deg=10.0, threads=2))
+    assert plain(lens.spot(p, field_deg=10.0, threads=1)) == plain(lens.spot(p, field_deg=10.0, threads=2))

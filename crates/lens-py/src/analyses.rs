@@ -5,7 +5,8 @@
 //! Arguments follow the flags: `field_deg`, `wavelength_nm` (None: the
 //! prescription's, or for `spot` every wavelength with its weight), `aim`
 //! ("auto", "paraxial", "real"), `film` ("image": the prescription's
-//! image surface; "paraxial"; or a distance in mm behind the last vertex).
+//! image surface; "paraxial"; or a distance in mm behind the last vertex),
+//! `threads` (None: every core; the GIL is released while they work).
 
 use crate::convert::to_py;
 use crate::errors::{OpticsError, OrPyErr};
@@ -47,6 +48,12 @@ fn plane_of(film: Option<&Bound<'_, PyAny>>) -> PyResult<ImagePlane> {
     }
 }
 
+/// `f` on `threads` threads (None: every core), the GIL released.
+fn off_gil<T: Send>(py: Python<'_>, threads: Option<usize>, f: impl FnOnce() -> T + Send) -> PyResult<T> {
+    let pool = crate::trace::pool(threads)?;
+    Ok(py.detach(|| pool.install(f)))
+}
+
 /// Refuses a field angle that is not one.
 fn check_field(field_deg: f64) -> PyResult<()> {
     if field_deg.is_finite() && field_deg.abs() < 90.0 {
@@ -84,7 +91,8 @@ impl Setup {
 /// Tangential and sagittal ray fans at `field_deg`, `points` pupil points
 /// each (the keys of `lens fan --json`).
 #[pyfunction]
-#[pyo3(signature = (prescription, field_deg=0.0, points=21, wavelength_nm=None, aim="auto", film=None))]
+#[pyo3(signature = (prescription, field_deg=0.0, points=21, wavelength_nm=None, aim="auto", film=None, threads=None))]
+#[allow(clippy::too_many_arguments)]
 pub fn fan<'py>(
     py: Python<'py>,
     prescription: &Prescription,
@@ -93,13 +101,15 @@ pub fn fan<'py>(
     wavelength_nm: Option<f64>,
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     if points < 2 {
         return Err(PyValueError::new_err(format!("points={points}: a fan needs at least 2 points")));
     }
     let plane = plane_of(film)?;
     let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
-    let fan = py.detach(|| lens::analysis::fan::fan_traced(&s.p, &s.traced, &s.launcher, points, plane)).py()?;
+    let fan =
+        off_gil(py, threads, || lens::analysis::fan::fan_traced(&s.p, &s.traced, &s.launcher, points, plane))?.py()?;
     to_py(py, &serde_json::to_value(&fan).map_err(|e| OpticsError::new_err(e.to_string()))?)
 }
 
@@ -108,7 +118,7 @@ pub fn fan<'py>(
 /// `wavelength_nm`, or every wavelength of the prescription with its
 /// weight where None.
 #[pyfunction]
-#[pyo3(signature = (prescription, field_deg=0.0, pattern="gauss", n=12, wavelength_nm=None, aim="auto", film=None))]
+#[pyo3(signature = (prescription, field_deg=0.0, pattern="gauss", n=12, wavelength_nm=None, aim="auto", film=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn spot<'py>(
     py: Python<'py>,
@@ -119,6 +129,7 @@ pub fn spot<'py>(
     wavelength_nm: Option<f64>,
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::pattern::Pattern;
     let pattern = match pattern.to_ascii_lowercase().as_str() {
@@ -138,12 +149,11 @@ pub fn spot<'py>(
     if wavelength_nm.is_none() {
         warn_range(py, &s.p, s.p.wavelengths_nm())?;
     }
-    let spot = py
-        .detach(|| match wavelength_nm {
-            Some(_) => lens::analysis::spot::spot_traced(&s.p, &s.traced, &s.launcher, pattern, n, plane),
-            None => lens::analysis::spot::spot_polychromatic(&s.p, &s.launcher, pattern, n, plane, &waves),
-        })
-        .py()?;
+    let spot = off_gil(py, threads, || match wavelength_nm {
+        Some(_) => lens::analysis::spot::spot_traced(&s.p, &s.traced, &s.launcher, pattern, n, plane),
+        None => lens::analysis::spot::spot_polychromatic(&s.p, &s.launcher, pattern, n, plane, &waves),
+    })?
+    .py()?;
     to_py(py, &lens::report::spot(field_deg, &spot))
 }
 
@@ -152,7 +162,7 @@ pub fn spot<'py>(
 /// both 37-term Zernike fits; on a `grid` x `grid` pupil grid (None: the
 /// default, finer where the wavefront needs it); with `samples`, the map.
 #[pyfunction]
-#[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, aim="auto", film=None, grid=None, samples=false))]
+#[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, aim="auto", film=None, grid=None, samples=false, threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn wavefront<'py>(
     py: Python<'py>,
@@ -163,23 +173,23 @@ pub fn wavefront<'py>(
     film: Option<&Bound<'py, PyAny>>,
     grid: Option<usize>,
     samples: bool,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::wave::zernike::{fit, ZernikeKind, TERMS};
     let plane = plane_of(film)?;
     let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
-    let report = py
-        .detach(|| -> Result<serde_json::Value, lens::OpticsError> {
-            let w = match grid {
-                Some(n) => lens::analysis::wave::wavefront(&s.p, &s.traced, &s.launcher, n, plane)?,
-                None => lens::analysis::wave::wavefront_auto(&s.p, &s.traced, &s.launcher, plane)?,
-            };
-            let st = lens::analysis::wave::stats(&w);
-            let fringe = fit(&w, ZernikeKind::Fringe, TERMS);
-            let standard = fit(&w, ZernikeKind::Standard, TERMS);
-            let fits = lens::report::Fits { fringe: fringe.as_ref(), standard: standard.as_ref() };
-            Ok(lens::report::wavefront(field_deg, plane, &w, &st, fits, samples))
-        })
-        .py()?;
+    let report = off_gil(py, threads, || -> Result<serde_json::Value, lens::OpticsError> {
+        let w = match grid {
+            Some(n) => lens::analysis::wave::wavefront(&s.p, &s.traced, &s.launcher, n, plane)?,
+            None => lens::analysis::wave::wavefront_auto(&s.p, &s.traced, &s.launcher, plane)?,
+        };
+        let st = lens::analysis::wave::stats(&w);
+        let fringe = fit(&w, ZernikeKind::Fringe, TERMS);
+        let standard = fit(&w, ZernikeKind::Standard, TERMS);
+        let fits = lens::report::Fits { fringe: fringe.as_ref(), standard: standard.as_ref() };
+        Ok(lens::report::wavefront(field_deg, plane, &w, &st, fits, samples))
+    })?
+    .py()?;
     to_py(py, &report)
 }
 
@@ -187,7 +197,7 @@ pub fn wavefront<'py>(
 /// keys of `lens mtf --json`), monochromatic at `wavelength_nm` or, with
 /// `polychromatic`, over the prescription's wavelengths and weights.
 #[pyfunction]
-#[pyo3(signature = (prescription, frequencies, field_deg=0.0, wavelength_nm=None, polychromatic=false, aim="auto", film=None))]
+#[pyo3(signature = (prescription, frequencies, field_deg=0.0, wavelength_nm=None, polychromatic=false, aim="auto", film=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn mtf<'py>(
     py: Python<'py>,
@@ -198,6 +208,7 @@ pub fn mtf<'py>(
     polychromatic: bool,
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::wave::mtf::{cutoffs, mtf, polychromatic_mtf};
     if frequencies.is_empty() {
@@ -210,18 +221,17 @@ pub fn mtf<'py>(
     if polychromatic {
         warn_range(py, &s.p, s.p.wavelengths_nm())?;
     }
-    let report = py
-        .detach(|| -> Result<serde_json::Value, lens::OpticsError> {
-            let first = FirstOrder::of(&s.p)?;
-            let axis = Launcher::with_first(&s.p, &first, Field::at_angle(&s.p, &first, 0.0), s.aim)?;
-            let axis_cutoff = cutoffs(&s.p, &s.traced, &axis, plane.z(&s.p, &axis)?)?.0;
-            let m = match &waves {
-                Some(w) => polychromatic_mtf(&s.p, &s.launcher, plane, &frequencies, w)?,
-                None => mtf(&s.p, &s.traced, &s.launcher, plane, &frequencies)?,
-            };
-            Ok(lens::report::mtf(field_deg, plane, &m, waves.as_deref(), axis_cutoff, None))
-        })
-        .py()?;
+    let report = off_gil(py, threads, || -> Result<serde_json::Value, lens::OpticsError> {
+        let first = FirstOrder::of(&s.p)?;
+        let axis = Launcher::with_first(&s.p, &first, Field::at_angle(&s.p, &first, 0.0), s.aim)?;
+        let axis_cutoff = cutoffs(&s.p, &s.traced, &axis, plane.z(&s.p, &axis)?)?.0;
+        let m = match &waves {
+            Some(w) => polychromatic_mtf(&s.p, &s.launcher, plane, &frequencies, w)?,
+            None => mtf(&s.p, &s.traced, &s.launcher, plane, &frequencies)?,
+        };
+        Ok(lens::report::mtf(field_deg, plane, &m, waves.as_deref(), axis_cutoff, None))
+    })?
+    .py()?;
     to_py(py, &report)
 }
 
@@ -229,19 +239,20 @@ pub fn mtf<'py>(
 /// infinity) with the lens focused at `focus_mm`, beside the thin-lens
 /// formula (the keys of `lens coc --json`).
 #[pyfunction]
-#[pyo3(signature = (prescription, focus_mm, distances, wavelength_nm=None))]
+#[pyo3(signature = (prescription, focus_mm, distances, wavelength_nm=None, threads=None))]
 pub fn coc<'py>(
     py: Python<'py>,
     prescription: &Prescription,
     focus_mm: f64,
     distances: Vec<f64>,
     wavelength_nm: Option<f64>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     if distances.is_empty() {
         return Err(PyValueError::new_err("distances: give at least one object distance in mm (inf for infinity)"));
     }
     let p = prescription.at(py, wavelength_nm)?;
-    let t = py.detach(|| lens::analysis::coc::circle_of_confusion(&p, focus_mm, &distances)).py()?;
+    let t = off_gil(py, threads, || lens::analysis::coc::circle_of_confusion(&p, focus_mm, &distances))?.py()?;
     to_py(py, &serde_json::to_value(&t).map_err(|e| OpticsError::new_err(e.to_string()))?)
 }
 
@@ -250,26 +261,26 @@ pub fn coc<'py>(
 /// design's largest field, else a 36 x 24 mm frame's corner), the
 /// polychromatic spot and each wavelength's fans at `field_deg`.
 #[pyfunction]
-#[pyo3(signature = (prescription, field_deg=0.0, max_field_deg=None, aim="auto"))]
+#[pyo3(signature = (prescription, field_deg=0.0, max_field_deg=None, aim="auto", threads=None))]
 pub fn chromatic<'py>(
     py: Python<'py>,
     prescription: &Prescription,
     field_deg: f64,
     max_field_deg: Option<f64>,
     aim: &str,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let aim = aim_of(aim)?;
     let p = &prescription.inner;
     warn_range(py, p, p.wavelengths_nm())?;
-    let c = py
-        .detach(|| {
-            let max = match max_field_deg {
-                Some(m) => m,
-                None => lens::analysis::chromatic::default_max_field_deg(p, aim)?,
-            };
-            lens::analysis::chromatic::chromatic(p, field_deg, max, aim)
-        })
-        .py()?;
+    let c = off_gil(py, threads, || {
+        let max = match max_field_deg {
+            Some(m) => m,
+            None => lens::analysis::chromatic::default_max_field_deg(p, aim)?,
+        };
+        lens::analysis::chromatic::chromatic(p, field_deg, max, aim)
+    })?
+    .py()?;
     to_py(py, &serde_json::to_value(&c).map_err(|e| OpticsError::new_err(e.to_string()))?)
 }
 
@@ -280,7 +291,7 @@ pub fn chromatic<'py>(
 /// `polychromatic` the prescription's wavelengths summed (FFT).
 #[pyfunction]
 #[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, method="fft", pad=4, pixels=64, grid=None,
-    polychromatic=false, aim="auto", film=None))]
+    polychromatic=false, aim="auto", film=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn psf<'py>(
     py: Python<'py>,
@@ -294,6 +305,7 @@ pub fn psf<'py>(
     polychromatic: bool,
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
+    threads: Option<usize>,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::wave::field_psf::{field_psf, PsfOptions};
     use lens::analysis::wave::psf::PsfMethod;
@@ -308,7 +320,7 @@ pub fn psf<'py>(
         warn_range(py, &s.p, s.p.wavelengths_nm())?;
     }
     let options = PsfOptions { method, pad, pixels, grid, polychromatic };
-    let f = py.detach(|| field_psf(&s.p, &s.traced, &s.launcher, plane, &options)).py()?;
+    let f = off_gil(py, threads, || field_psf(&s.p, &s.traced, &s.launcher, plane, &options))?.py()?;
     let report = to_py(py, &lens::report::psf(field_deg, plane, &f))?;
     let n = f.psf.size;
     let image = numpy::ndarray::Array2::from_shape_vec((n, n), f.psf.intensity)

@@ -251,14 +251,15 @@ pub fn fit_samples(samples: &[((f64, f64), f64, f64)], kind: ZernikeKind, terms:
             }
             (g, rhs, total)
         })
-        .reduce(
-            || (vec![0.0; tri], vec![0.0; terms], 0.0),
-            |mut a, b| {
-                a.0.iter_mut().zip(&b.0).for_each(|(x, y)| *x += y);
-                a.1.iter_mut().zip(&b.1).for_each(|(x, y)| *x += y);
-                (a.0, a.1, a.2 + b.2)
-            },
-        );
+        // collected in order and added in order: the same bits however
+        // many threads share the chunks
+        .collect::<Vec<_>>()
+        .into_iter()
+        .fold((vec![0.0; tri], vec![0.0; terms], 0.0), |mut a, b| {
+            a.0.iter_mut().zip(&b.0).for_each(|(x, y)| *x += y);
+            a.1.iter_mut().zip(&b.1).for_each(|(x, y)| *x += y);
+            (a.0, a.1, a.2 + b.2)
+        });
     let mut ata = DMatrix::<f64>::zeros(terms, terms);
     let mut off = 0;
     for a in 0..terms {
@@ -296,6 +297,8 @@ pub fn fit_samples(samples: &[((f64, f64), f64, f64)], kind: ZernikeKind, terms:
                 })
                 .sum::<f64>()
         })
+        .collect::<Vec<f64>>()
+        .into_iter()
         .sum();
     Some(ZernikeFit { kind, coefficients: c.iter().copied().collect(), rms_residual: (residual / total).sqrt() })
 }

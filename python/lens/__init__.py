@@ -12,6 +12,8 @@ arrays). Lengths in prescriptions are mm, in scenes metres; wavelengths nm.
 50.0
 """
 
+import enum
+
 from ._lens import (
     STATUS_NAMES,
     Glass,
@@ -35,8 +37,22 @@ from ._lens import (
     wavefront,
 )
 
+
+
+class Status(enum.IntEnum):
+    """The status codes of :func:`trace`, one per ray (``STATUS_NAMES`` by
+    value): ``status == lens.Status.REACHED`` picks the rays on the film."""
+
+    REACHED = 0
+    MISSED = 1
+    BLOCKED = 2
+    TOTAL_INTERNAL_REFLECTION = 3
+    NOT_CONVERGED = 4
+
+
 __all__ = [
     "STATUS_NAMES",
+    "Status",
     "Glass",
     "GlassError",
     "LensError",

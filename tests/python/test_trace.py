@@ -30,6 +30,8 @@ def test_shapes_dtypes_and_statuses():
     assert reached[500] and not reached[0] and not reached[-1]
     assert set(np.unique(status)) <= {0, 1, 2}
     assert lens.STATUS_NAMES[2] == "blocked"
+    assert [s.name.lower() for s in lens.Status] == lens.STATUS_NAMES
+    assert (status == lens.Status.BLOCKED).sum() == (status == 2).sum()
     # reached rays end on the film plane, with unit directions
     z_film = p.info()["total_track"]
     assert np.allclose(out[reached, 2], out[reached, 2][0])

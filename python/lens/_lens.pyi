@@ -89,6 +89,7 @@ def trace(
     rays: npt.NDArray[np.float64],
     wavelength_nm: Union[None, float, npt.NDArray[np.float64]] = None,
     threads: Optional[int] = None,
+    out: Optional[tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8]]] = None,
 ) -> tuple[npt.NDArray[np.float64], npt.NDArray[np.uint8]]: ...
 def fan(
     prescription: Prescription,

@@ -106,3 +106,19 @@ def test_bad_wavelengths_and_threads():
     # outside the glasses' data: extrapolated, as Zemax does, with a warning
     with pytest.warns(RuntimeWarning, match="outside its data"):
         lens.trace(p, rays, wavelength_nm=np.full(4, 3000.0))
+
+
+def test_out_arrays_are_written_in_place():
+    p = lens.load(DG)
+    rays = fan_of_rays(5000)
+    fresh, fresh_status = lens.trace(p, rays)
+    ends, codes = np.full((5000, 6), np.nan), np.full(5000, 255, dtype=np.uint8)
+    got, got_status = lens.trace(p, rays, out=(ends, codes))
+    assert got is ends and got_status is codes
+    assert np.array_equal(ends, fresh) and np.array_equal(codes, fresh_status)
+    with pytest.raises(ValueError, match="shapes"):
+        lens.trace(p, rays, out=(np.zeros((10, 6)), codes))
+    with pytest.raises(TypeError, match="uint8"):
+        lens.trace(p, rays, out=(ends, np.zeros(5000)))
+    with pytest.raises(ValueError, match="shares memory"):
+        lens.trace(p, rays, out=(rays, codes))

@@ -37,15 +37,18 @@ enum Light<'a> {
 /// prescription's wavelength), a number, or an (N,) float64 array, each
 /// ray its own. Returns `(out, status)`: out (N, 6) where each ray ended
 /// (on the film for status 0; where it stopped otherwise) and its unit
-/// direction, status (N,) uint8 codes (`lens.STATUS_NAMES`).
+/// direction, status (N,) uint8 codes (`lens.STATUS_NAMES`); with `out`
+/// = (an (N, 6) float64 array, an (N,) uint8 array), written into those
+/// and returned (no new memory: for repeated traces of many rays).
 #[pyfunction]
-#[pyo3(signature = (prescription, rays, wavelength_nm=None, threads=None))]
+#[pyo3(signature = (prescription, rays, wavelength_nm=None, threads=None, out=None))]
 pub fn trace<'py>(
     py: Python<'py>,
     prescription: &Prescription,
     rays: &Bound<'py, PyAny>,
     wavelength_nm: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    out: Option<(Bound<'py, PyAny>, Bound<'py, PyAny>)>,
 ) -> PyResult<Traced<'py>> {
     let rays = float_array::<numpy::Ix2>(rays, "rays", "(N, 6)")?;
     let ro = rays.readonly();
@@ -100,35 +103,63 @@ pub fn trace<'py>(
         None => Light::One(lens::Tracer::forward(&p)),
     };
     let pool = pool(threads)?;
-    let (out, status) = py.detach(|| pool.install(|| run(input, &light)));
-    let out = match out {
-        Ok(out) => out,
-        Err(Failure::Optics(e)) => return Err(e).py(),
-        Err(Failure::BadRay(i)) => {
-            return Err(PyValueError::new_err(format!(
-                "rays[{i}] = {:?}: every coordinate must be finite and the direction (dx, dy, dz) not zero",
-                &input[i * 6..i * 6 + 6]
-            )))
-        }
+    let bad_ray = |i: usize| {
+        PyValueError::new_err(format!(
+            "rays[{i}] = {:?}: every coordinate must be finite and the direction (dx, dy, dz) not zero",
+            &input[i * 6..i * 6 + 6]
+        ))
     };
-    let out = Array2::from_shape_vec((n, 6), out).map_err(|e| PyValueError::new_err(e.to_string()))?;
-    Ok((out.into_pyarray(py), Array1::from_vec(status).into_pyarray(py)))
+    let failed = |f: Failure| match f {
+        Failure::Optics(e) => Err::<(), _>(e).py(),
+        Failure::BadRay(i) => Err(bad_ray(i)),
+    };
+    if let Some((to, codes)) = out {
+        // the caller's arrays, written in place and handed back
+        let to = float_array::<numpy::Ix2>(&to, "out[0]", &format!("({n}, 6)"))?;
+        let codes = codes.cast::<PyArray1<u8>>().map_err(|_| {
+            PyTypeError::new_err(format!("out[1]: expected a uint8 numpy array of shape ({n},) for the statuses"))
+        })?;
+        {
+            let shared = |what: &str| {
+                PyValueError::new_err(format!("{what} shares memory with rays or wavelength_nm: give a separate array"))
+            };
+            let mut w = to.try_readwrite().map_err(|_| shared("out[0]"))?;
+            let mut c = codes.try_readwrite().map_err(|_| shared("out[1]"))?;
+            let (ends, status) = match (w.as_slice_mut(), c.as_slice_mut()) {
+                (Ok(e), Ok(s)) if e.len() == n * 6 && s.len() == n => (e, s),
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "out: expected C-contiguous arrays of shapes ({n}, 6) float64 and ({n},) uint8"
+                    )))
+                }
+            };
+            if let Err(f) = py.detach(|| pool.install(|| run(input, &light, ends, status))) {
+                failed(f)?;
+            }
+        }
+        return Ok((to, codes.clone()));
+    }
+    let mut ends = vec![0.0; n * 6];
+    huge_pages(&mut ends);
+    let mut status = vec![0u8; n];
+    if let Err(f) = py.detach(|| pool.install(|| run(input, &light, &mut ends, &mut status))) {
+        failed(f)?;
+    }
+    let ends = Array2::from_shape_vec((n, 6), ends).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok((ends.into_pyarray(py), Array1::from_vec(status).into_pyarray(py)))
 }
 
-/// Every block traced into the output arrays; a bad ray (a coordinate not
-/// finite, a zero direction) is reported by its index, the first of all.
-fn run(input: &[f64], light: &Light) -> (Result<Vec<f64>, Failure>, Vec<u8>) {
-    let n = input.len() / 6;
-    let mut out = vec![0.0; n * 6];
-    huge_pages(&mut out);
-    let mut status = vec![0u8; n];
+/// Every block traced into `out` and `status` (n x 6 and n); a bad ray (a
+/// coordinate not finite, a zero direction) is reported by its index, the
+/// first of all.
+fn run(input: &[f64], light: &Light, out: &mut [f64], status: &mut [u8]) -> Result<(), Failure> {
     let failures: Vec<Failure> = out
         .par_chunks_mut(BLOCK * 6)
         .zip(status.par_chunks_mut(BLOCK))
         .zip(input.par_chunks(BLOCK * 6))
         .enumerate()
-        .map_init(lens::trace::SpectralBatch::default, |batch, (k, ((out, status), rays))| {
-            trace_block(batch, k * BLOCK, rays, light, out, status).err()
+        .map_init(Scratch::default, |scratch, (k, ((out, status), rays))| {
+            trace_block(scratch, k * BLOCK, rays, light, out, status).err()
         })
         .flatten()
         .collect();
@@ -137,8 +168,8 @@ fn run(input: &[f64], light: &Light) -> (Result<Vec<f64>, Failure>, Vec<u8>) {
         Failure::Optics(_) => usize::MAX,
     });
     match first {
-        Some(f) => (Err(f), status),
-        None => (Ok(out), status),
+        Some(f) => Err(f),
+        None => Ok(()),
     }
 }
 
@@ -174,10 +205,21 @@ enum Failure {
     Optics(lens::OpticsError),
 }
 
-/// One block, its first ray the input's `first`: laid out as the
-/// tracer's arrays (directions normalised), traced, written back.
+/// Each task's buffers between its blocks.
+#[derive(Default)]
+struct Scratch {
+    /// The statuses of a block traced from its rows.
+    status: Vec<u64>,
+    /// A block of rays of mixed wavelengths, laid out for the tracer.
+    batch: lens::trace::SpectralBatch,
+}
+
+/// One block, its first ray the input's `first`: at one wavelength traced
+/// straight from its rows into the output's ([`lens::Tracer::trace_rows`]),
+/// each ray at its own wavelength laid out for the tracer first
+/// (directions normalised alike), traced, written back.
 fn trace_block(
-    batch: &mut lens::trace::SpectralBatch,
+    scratch: &mut Scratch,
     first: usize,
     rays: &[f64],
     light: &Light,
@@ -185,6 +227,15 @@ fn trace_block(
     status: &mut [u8],
 ) -> Result<(), Failure> {
     let m = rays.len() / 6;
+    if let Light::One(t) = light {
+        scratch.status.resize(m, 0);
+        t.trace_rows(rays, out, &mut scratch.status).map_err(|i| Failure::BadRay(first + i))?;
+        for (s, st) in status.iter_mut().zip(&scratch.status) {
+            *s = (st & 7) as u8;
+        }
+        return Ok(());
+    }
+    let batch = &mut scratch.batch;
     let b = &mut batch.rays;
     for v in [&mut b.x, &mut b.y, &mut b.z, &mut b.dx, &mut b.dy, &mut b.dz, &mut b.opl] {
         v.clear();
@@ -207,13 +258,10 @@ fn trace_block(
             .position(|r| !r.iter().all(|v| v.is_finite()) || (r[3] == 0.0 && r[4] == 0.0 && r[5] == 0.0));
         return Err(Failure::BadRay(first + at.unwrap_or(0)));
     }
-    match light {
-        Light::One(t) => t.trace_soa(&mut batch.rays),
-        Light::Each(t, w) => {
-            batch.wavelength_nm.clear();
-            batch.wavelength_nm.extend_from_slice(&w[first..first + m]);
-            t.trace_spectral(batch).map_err(Failure::Optics)?
-        }
+    if let Light::Each(t, w) = light {
+        batch.wavelength_nm.clear();
+        batch.wavelength_nm.extend_from_slice(&w[first..first + m]);
+        t.trace_spectral(batch).map_err(Failure::Optics)?
     }
     let b = &batch.rays;
     let ends = b.x.iter().zip(&b.y).zip(&b.z).zip(b.dx.iter().zip(&b.dy).zip(&b.dz));

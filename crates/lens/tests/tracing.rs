@@ -128,6 +128,49 @@ fn batch_is_bit_for_bit_the_one_ray_path_on_every_shipped_lens() {
     }
 }
 
+/// Rows in, rows out (`trace_rows`, the layout of an (N, 6) array) are
+/// the batch's rays to the bit, through every shipped lens both ways, for
+/// wild rays of awkward counts with directions of any length; a row with
+/// a number not finite or a zero direction is named by its index.
+#[test]
+fn rows_are_bit_for_bit_the_batch() {
+    let mut uniform = uniform(0x9e37_79b9_7f4a_7c15);
+    for (name, p) in shipped_lenses() {
+        let reach = p.surfaces().iter().filter_map(|s| s.semi_diameter).fold(0.0, f64::max) * 1.5;
+        let film_z = p.last_vertex_z() + p.film_distance();
+        for (tracer, z0, towards) in [(Tracer::forward(&p), -30.0, 1.0), (Tracer::reverse(&p), film_z + 5.0, -1.0)] {
+            for len in [1usize, 5, 64, 65, 300] {
+                let mut rows = Vec::with_capacity(len * 6);
+                let mut batch = RayBatch::default();
+                for _ in 0..len {
+                    let (x, y) = (reach * (2.0 * uniform() - 1.0), reach * (2.0 * uniform() - 1.0));
+                    let (theta, phi) = (1.2 * uniform(), std::f64::consts::TAU * uniform());
+                    let d = DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), towards * theta.cos());
+                    let scale = 0.1 + 5.0 * uniform();
+                    rows.extend([x, y, z0, d.x * scale, d.y * scale, d.z * scale]);
+                    batch.push(Ray { origin: DVec3::new(x, y, z0), direction: (d * scale).normalize() });
+                }
+                let (mut out, mut status) = (vec![0.0; len * 6], vec![0u64; len]);
+                tracer.trace_rows(&rows, &mut out, &mut status).unwrap();
+                tracer.trace_soa(&mut batch);
+                for i in 0..len {
+                    let soa = [batch.x[i], batch.y[i], batch.z[i], batch.dx[i], batch.dy[i], batch.dz[i]];
+                    let row = &out[i * 6..i * 6 + 6];
+                    assert!(
+                        soa.iter().zip(row).all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "{name} ray {i} of {len}: rows {row:?} vs batch {soa:?}"
+                    );
+                    assert_eq!(status[i], batch.status[i], "{name} ray {i} of {len}");
+                }
+                if len > 3 {
+                    rows[3 * 6 + 4] = f64::NAN;
+                    assert_eq!(tracer.trace_rows(&rows, &mut out, &mut status), Err(3));
+                }
+            }
+        }
+    }
+}
+
 /// Every kind of ray, bit for bit: wild rays (wide angles, outside the
 /// apertures, parallel to planes, some already finished) through every
 /// shipped lens both ways, in batches of awkward lengths.

@@ -507,6 +507,106 @@ impl Tracer {
         }
     }
 
+    /// Traces rays given as rows `[x y z dx dy dz]` (global frame, mm: the
+    /// layout of an (N, 6) array; a direction of any length but zero,
+    /// normalised as [`DVec3::normalize`] does) into `out`'s rows (where
+    /// and how each ray ended, as [`Self::trace_soa`] leaves it) and
+    /// `status` (as [`RayBatch::status`]), chunk by chunk straight from the
+    /// rows and back, with no array of the batch's in between. The same
+    /// numbers, to the bit, as [`Self::trace_soa`] on the same rays
+    /// normalised. Errors with the index of the first row whose numbers are
+    /// not all finite or whose direction is zero (the outputs are then
+    /// unspecified). Rows beyond the shortest of `rows` / 6, `out` / 6 and
+    /// `status` are left alone.
+    ///
+    /// ```
+    /// let p = lens::Prescription::from_json_str(r#"{"surfaces": [
+    ///   {"radius": 51.5, "thickness": 3.6, "glass": "SCHOTT:N-BK7", "semi_diameter": 12.7, "stop": true},
+    ///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
+    /// let rows = [0.0, 5.0, -10.0, 0.0, 0.0, 2.0];
+    /// let (mut out, mut status) = ([0.0; 6], [0u64; 1]);
+    /// lens::Tracer::forward(&p).trace_rows(&rows, &mut out, &mut status).unwrap();
+    /// assert_eq!(status[0], 0);
+    /// assert!(out[1].abs() < 0.2 && out[5] > 0.99);
+    /// assert_eq!(lens::Tracer::forward(&p).trace_rows(&[0.0; 6], &mut out, &mut status), Err(0));
+    /// ```
+    pub fn trace_rows(&self, rows: &[f64], out: &mut [f64], status: &mut [u64]) -> Result<(), usize> {
+        let n = (rows.len() / 6).min(out.len() / 6).min(status.len());
+        let (rows, out, status) = (&rows[..n * 6], &mut out[..n * 6], &mut status[..n]);
+        let lane = |r: &[f64]| -> Option<Lane<f64>> {
+            let d = DVec3::new(r[3], r[4], r[5]);
+            let fine = r[0].is_finite() && r[1].is_finite() && r[2].is_finite() && d.is_finite() && d != DVec3::ZERO;
+            let d = d.normalize();
+            fine.then_some(Lane { px: r[0], py: r[1], pz: r[2], dx: d.x, dy: d.y, dz: d.z, opl: 0.0 })
+        };
+        if self.steps.is_empty() {
+            for (i, (r, o)) in rows.chunks_exact(6).zip(out.chunks_exact_mut(6)).enumerate() {
+                let l = lane(r).ok_or(i)?;
+                o.copy_from_slice(&[l.px, l.py, l.pz, l.dx, l.dy, l.dz]);
+            }
+            status.fill(0);
+            return Ok(());
+        }
+        #[cfg(target_arch = "x86_64")]
+        if simd_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            return unsafe { self.trace_rows_avx2(rows, out, status, lane) };
+        }
+        for (i, ((r, o), st)) in rows.chunks_exact(6).zip(out.chunks_exact_mut(6)).zip(status.iter_mut()).enumerate() {
+            let (l, k, kind) = self.walk_lane(lane(r).ok_or(i)?, |_, _, _| {});
+            let l = Lane { pz: l.pz + self.steps[k].vertex_z, ..l };
+            o.copy_from_slice(&[l.px, l.py, l.pz, l.dx, l.dy, l.dz]);
+            *st = if kind == PASSED { 0 } else { ((k as u64 + 1) << KIND_BITS) | kind };
+        }
+        Ok(())
+    }
+
+    /// [`Self::trace_rows`] on AVX2 + FMA, a chunk at a time: each chunk's
+    /// rows gathered into its lanes (`lane` reads and checks a row), traced,
+    /// and its rays stored back as rows.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn trace_rows_avx2(
+        &self,
+        rows: &[f64],
+        out: &mut [f64],
+        status: &mut [u64],
+        lane: impl Fn(&[f64]) -> Option<Lane<f64>>,
+    ) -> Result<(), usize> {
+        let mut c = Chunk::for_tracer(self);
+        let last_z = self.steps[self.steps.len() - 1].vertex_z;
+        let n = status.len();
+        let mut start = 0;
+        while start < n {
+            let m = (n - start).min(CHUNK);
+            let (from, to) = (&rows[start * 6..(start + m) * 6], &mut out[start * 6..(start + m) * 6]);
+            let next = (start + m) * 6..((start + 2 * m).min(n)) * 6;
+            prefetch_lines(rows[next.clone()].as_ptr(), next.len() / 8);
+            for (i, r) in from.chunks_exact(6).enumerate() {
+                let Some(l) = lane(r) else {
+                    Chunk::keep(c);
+                    return Err(start + i);
+                };
+                c.live[0].set(i, l);
+                c.status[i / 4][i % 4] = 0;
+            }
+            self.trace_chunk::<false>(&mut c, m, &ChunkIndices::default());
+            let fin = &c.live[self.steps.len() % 2];
+            for (i, o) in to.chunks_exact_mut(6).enumerate() {
+                let l = fin.get(i);
+                o.copy_from_slice(&[l.px, l.py, l.pz + last_z, l.dx, l.dy, l.dz]);
+            }
+            status[start..start + m].copy_from_slice(&c.status.as_flattened()[..m]);
+            for i in ones(c.stopped(m)) {
+                let l = c.done.get(i);
+                to[i * 6..i * 6 + 6].copy_from_slice(&[l.px, l.py, l.pz, l.dx, l.dy, l.dz]);
+            }
+            start += m;
+        }
+        Chunk::keep(c);
+        Ok(())
+    }
+
     /// The outcome of ray `i` of a batch traced by [`Self::trace_soa`].
     /// Errors when its `status` is neither 0 nor a code this tracer writes
     /// (a stop at one of its steps), as a status set by hand may be.

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import lens
-from conftest import SHIPPED, cli_json
+from conftest import SHIPPED, cli, cli_json
 
 
 def plain(v):
@@ -133,3 +133,11 @@ def test_threads_do_not_change_a_bit():
     assert plain(lens.wavefront(p, field_deg=10.0, threads=2)) == one
     assert plain(lens.mtf(p, [10.0, 40.0], field_deg=10.0, threads=1)) == plain(lens.mtf(p, [10.0, 40.0], field_deg=10.0, threads=2))
     assert plain(lens.spot(p, field_deg=10.0, threads=1)) == plain(lens.spot(p, field_deg=10.0, threads=2))
+
+
+def test_zemax_files_load(tmp_path):
+    zmx = tmp_path / "double-gauss.zmx"
+    assert cli("convert", "lens-data/double-gauss-50mm.json", "-o", str(zmx)).returncode == 0
+    p = lens.load(zmx)
+    check(lambda: p.info(), "info", str(zmx))
+    check(lambda: lens.spot(p, field_deg=7.0), "spot", str(zmx), "--field-deg", "7.0")

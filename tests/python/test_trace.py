@@ -81,6 +81,7 @@ def test_directions_are_normalised():
         ([[0.0] * 6], TypeError, "float64 numpy array"),
         (np.zeros((4, 5)), ValueError, "(N, 6)"),
         (np.zeros((4, 12))[:, ::2], ValueError, "C-contiguous"),
+        (np.asfortranarray(np.ones((4, 6))), ValueError, "C-contiguous"),
         (np.array([[0.0, 0.0, -10.0, 0.0, 0.0, 0.0]]), ValueError, "not zero"),
         (np.array([[np.nan, 0.0, -10.0, 0.0, 0.0, 1.0]]), ValueError, "finite"),
     ],
@@ -120,5 +121,7 @@ def test_out_arrays_are_written_in_place():
         lens.trace(p, rays, out=(np.zeros((10, 6)), codes))
     with pytest.raises(TypeError, match="uint8"):
         lens.trace(p, rays, out=(ends, np.zeros(5000)))
+    with pytest.raises(ValueError, match="shapes"):
+        lens.trace(p, rays, out=(np.asfortranarray(ends), codes))
     with pytest.raises(ValueError, match="shares memory"):
         lens.trace(p, rays, out=(rays, codes))

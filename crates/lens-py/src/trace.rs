@@ -58,7 +58,8 @@ pub fn trace<'py>(
             ro.shape()
         )));
     }
-    let input = ro.as_slice().map_err(|_| {
+    // a Fortran-ordered array is contiguous too, but its rows are not rays
+    let input = ro.as_slice().ok().filter(|_| rays.is_c_contiguous()).ok_or_else(|| {
         PyValueError::new_err("rays: expected a C-contiguous array (np.ascontiguousarray(rays) makes one)")
     })?;
     let n = input.len() / 6;
@@ -125,8 +126,9 @@ pub fn trace<'py>(
             };
             let mut w = to.try_readwrite().map_err(|_| shared("out[0]"))?;
             let mut c = codes.try_readwrite().map_err(|_| shared("out[1]"))?;
+            let c_order = to.is_c_contiguous();
             let (ends, status) = match (w.as_slice_mut(), c.as_slice_mut()) {
-                (Ok(e), Ok(s)) if e.len() == n * 6 && s.len() == n => (e, s),
+                (Ok(e), Ok(s)) if c_order && e.len() == n * 6 && s.len() == n => (e, s),
                 _ => {
                     return Err(PyValueError::new_err(format!(
                         "out: expected C-contiguous arrays of shapes ({n}, 6) float64 and ({n},) uint8"

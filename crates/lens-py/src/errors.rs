@@ -63,3 +63,18 @@ impl<T, E: IntoPyErr> OrPyErr<T> for Result<T, E> {
         self.map_err(IntoPyErr::py_err)
     }
 }
+
+/// A Python `UserWarning` saying `text` (a prescription's or a scene's
+/// warning: a retired glass name replaced, ...).
+pub fn warn_user(py: Python<'_>, text: &str) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    PyErr::warn(py, &category, &std::ffi::CString::new(text.replace('\0', " "))?, 1)
+}
+
+/// A Python `RuntimeWarning` for a glass used outside its data (the CLI
+/// prints the same on standard error).
+pub fn warn_glass_range(py: Python<'_>, w: &lens::glass::RangeWarning) -> PyResult<()> {
+    let text = format!("glass outside its data: {}", serde_json::to_string(w).unwrap_or_default());
+    let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+    PyErr::warn(py, &category, &std::ffi::CString::new(text)?, 1)
+}

@@ -79,7 +79,7 @@ impl Glass {
 pub fn glass(py: Python<'_>, name: &str) -> PyResult<Glass> {
     let (g, note) = lens::glass::Catalogs::shipped().resolve(name).py()?;
     if let Some(note) = note {
-        PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &std::ffi::CString::new(note)?, 1)?;
+        crate::errors::warn_user(py, &note)?;
     }
     Ok(Glass { inner: g.clone() })
 }

@@ -6,7 +6,6 @@ use crate::convert::to_py;
 use crate::errors::{OrPyErr, PrescriptionError};
 use lens::paraxial::ObjectDistance;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
 
 /// A lens prescription (lengths in mm), validated, at one wavelength.
 #[pyclass(module = "lens._lens", frozen)]
@@ -41,11 +40,8 @@ impl Prescription {
 /// A `RuntimeWarning` for each glass of `p` used outside its data at
 /// `wavelengths_nm` (the CLI prints the same on standard error).
 pub(crate) fn warn_range(py: Python<'_>, p: &lens::Prescription, wavelengths_nm: &[f64]) -> PyResult<()> {
-    let warnings = p.glass_range(wavelengths_nm, lens::glass::GlassRange::Extrapolate).py()?;
-    let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
-    for w in warnings {
-        let text = serde_json::to_string(&w).unwrap_or_default();
-        PyErr::warn(py, &category, &std::ffi::CString::new(format!("glass outside its data: {text}"))?, 1)?;
+    for w in p.glass_range(wavelengths_nm, lens::glass::GlassRange::Extrapolate).py()? {
+        crate::errors::warn_glass_range(py, &w)?;
     }
     Ok(())
 }
@@ -156,7 +152,7 @@ impl Prescription {
 pub fn load(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Prescription> {
     let p = lens::Prescription::load(&path).py()?;
     for w in p.warnings() {
-        PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &std::ffi::CString::new(w.as_str())?, 1)?;
+        crate::errors::warn_user(py, w)?;
     }
     Ok(Prescription::wrap(p, Some(path.display().to_string())))
 }
@@ -172,7 +168,5 @@ pub fn validate_file<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult
         }
         Err(e) => (false, Vec::new(), Some(e.to_string())),
     };
-    let d = to_py(py, &lens::report::validation(&path.display().to_string(), valid, error, &findings))?;
-    let _: &Bound<'py, PyDict> = d.cast()?;
-    Ok(d)
+    to_py(py, &lens::report::validation(&path.display().to_string(), valid, error, &findings))
 }

@@ -68,16 +68,10 @@ pub fn render<'py>(
     };
     let s = ::render::Scene::load_with(&scene, &overrides).map_err(|e| RenderError::new_err(e.to_string()))?;
     for w in &s.glass_warnings {
-        let text = serde_json::to_string(w).unwrap_or_default();
-        PyErr::warn(
-            py,
-            &py.get_type::<pyo3::exceptions::PyRuntimeWarning>(),
-            &std::ffi::CString::new(format!("glass outside its data: {text}"))?,
-            1,
-        )?;
+        crate::errors::warn_glass_range(py, w)?;
     }
     for w in &s.warnings {
-        PyErr::warn(py, &py.get_type::<pyo3::exceptions::PyUserWarning>(), &std::ffi::CString::new(w.as_str())?, 1)?;
+        crate::errors::warn_user(py, w)?;
     }
     let spp = spp.unwrap_or(s.film.spp);
     if spp == 0 || spp > MAX_SPP {

@@ -18,3 +18,9 @@ def test_render_into_numpy():
 def test_real_lens_with_an_f_number():
     img = lens.render("lens-data/scenes/bokeh-double-gauss.json", width=40, height=24, spp=2, f_number=2.8)
     assert img.shape == (24, 40, 3) and np.isfinite(img).all()
+
+
+def test_one_side_keeps_the_scenes_aspect():
+    # the scene's film is 480 x 300; the width alone scales the height
+    img = lens.render("lens-data/scenes/bokeh-double-gauss.json", width=96, spp=1)
+    assert img.shape == (60, 96, 3)

@@ -40,10 +40,11 @@ pub struct Args {
     /// scene's (auto).
     #[arg(long, value_enum)]
     companions: Option<CompanionsFlag>,
-    /// Film width, pixels (overrides the scene's).
+    /// Film width, pixels (overrides the scene's; alone, the height follows
+    /// the scene's aspect).
     #[arg(long)]
     width: Option<u32>,
-    /// Film height, pixels.
+    /// Film height, pixels (alone, the width follows the scene's aspect).
     #[arg(long)]
     height: Option<u32>,
     /// Switch the camera: a real lens becomes the thin lens matched to it

@@ -12,7 +12,8 @@ const MAX_SPP: u32 = 1 << 20;
 
 /// Renders the scene file `scene` and returns its image as an (H, W, 3)
 /// float32 array of linear RGB (exposure not applied, as the EXR the CLI
-/// writes). Overrides as `lens render`'s flags: `width`, `height`, `spp`,
+/// writes). Overrides as `lens render`'s flags: `width`, `height` (one
+/// alone keeps the scene's aspect), `spp`,
 /// `seed`, `camera` ("pinhole", "thin-lens", "lens"), `f_number`,
 /// `aperture` (m), `focal_length_mm`, `focus_distance` (m), `focus_shift`
 /// (mm), `aperture_shape`, `prescription` (a lens file for the camera);

@@ -28,6 +28,18 @@ fn film_and_thin_lens_settings_override_the_file() {
 }
 
 #[test]
+fn one_side_of_the_film_alone_keeps_the_files_aspect() {
+    // dof-study.json is 320 x 180 (16:9)
+    let load = |o: Overrides| Scene::load_with(&scenes().join("dof-study.json"), &o).unwrap().film;
+    let f = load(Overrides { width: Some(160), ..Default::default() });
+    assert_eq!((f.width, f.height), (160, 90));
+    let f = load(Overrides { height: Some(45), ..Default::default() });
+    assert_eq!((f.width, f.height), (80, 45));
+    let f = load(Overrides { width: Some(1), ..Default::default() });
+    assert_eq!((f.width, f.height), (1, 1));
+}
+
+#[test]
 fn a_real_lens_becomes_the_thin_lens_matched_to_it() {
     let o = Overrides { camera: Some(CameraKind::ThinLens), ..Default::default() };
     let s = Scene::load_with(&scenes().join("dof-double-gauss-f2.json"), &o).unwrap();

@@ -23,9 +23,9 @@ pub enum CameraKind {
 /// What to override; `None` keeps the file's value.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Overrides {
-    /// Film width, pixels.
+    /// Film width, pixels (alone: the height follows the file's aspect).
     pub width: Option<u32>,
-    /// Film height, pixels.
+    /// Film height, pixels (alone: the width follows the file's aspect).
     pub height: Option<u32>,
     /// Samples per pixel.
     pub spp: Option<u32>,
@@ -77,11 +77,15 @@ impl Overrides {
     /// Applies the overrides to `file` (whose relative paths resolve
     /// against `dir`). Errors name the flag's field.
     pub fn apply(&self, file: &mut SceneFile, dir: &Path) -> Result<(), Problem> {
-        if let Some(w) = self.width {
-            file.film.width = w;
-        }
-        if let Some(h) = self.height {
-            file.film.height = h;
+        // one side alone keeps the file's aspect (the sensor's is fixed:
+        // changing one side only would stretch the picture)
+        let (w0, h0) = (file.film.width.max(1) as f64, file.film.height.max(1) as f64);
+        let scaled = |side: u32, ratio: f64| ((side as f64 * ratio).round() as u32).max(1);
+        match (self.width, self.height) {
+            (Some(w), Some(h)) => (file.film.width, file.film.height) = (w, h),
+            (Some(w), None) => (file.film.width, file.film.height) = (w, if w == 0 { 0 } else { scaled(w, h0 / w0) }),
+            (None, Some(h)) => (file.film.width, file.film.height) = (if h == 0 { 0 } else { scaled(h, w0 / h0) }, h),
+            (None, None) => {}
         }
         if let Some(s) = self.spp {
             file.film.spp = s;

@@ -162,9 +162,24 @@ fn rows_are_bit_for_bit_the_batch() {
                     );
                     assert_eq!(status[i], batch.status[i], "{name} ray {i} of {len}");
                 }
-                if len > 3 {
-                    rows[3 * 6 + 4] = f64::NAN;
-                    assert_eq!(tracer.trace_rows(&rows, &mut out, &mut status), Err(3));
+                // a bad row anywhere (in a group of four, in the tail, the
+                // first of a chunk) is named by its index
+                for at in [0, 3, 6, 64, 65, 299].into_iter().filter(|&at| at < len) {
+                    let good: [f64; 6] = rows[at * 6..at * 6 + 6].try_into().unwrap();
+                    let bad: [(usize, f64); 4] =
+                        [(4, f64::NAN), (0, f64::INFINITY), (2, f64::NEG_INFINITY), (5, f64::NAN)];
+                    for (field, value) in bad {
+                        rows[at * 6 + field] = value;
+                        assert_eq!(tracer.trace_rows(&rows, &mut out, &mut status), Err(at), "{name}: row {at}");
+                        rows[at * 6 + field] = good[field];
+                    }
+                    rows[at * 6 + 3..at * 6 + 6].copy_from_slice(&[0.0, -0.0, 0.0]);
+                    assert_eq!(
+                        tracer.trace_rows(&rows, &mut out, &mut status),
+                        Err(at),
+                        "{name}: row {at} no direction"
+                    );
+                    rows[at * 6..at * 6 + 6].copy_from_slice(&good);
                 }
             }
         }

@@ -57,6 +57,53 @@ impl F64x4 {
     }
 }
 
+/// Four rows of six numbers each (`rows[0..24]`, row `i` at `6 i`) as six
+/// vectors, one per column: lane `i` of vector `k` is `rows[6 i + k]`.
+#[inline(always)]
+pub(crate) fn rows_to_columns(rows: &[f64; 24]) -> [F64x4; 6] {
+    let p = rows.as_ptr();
+    // SAFETY: AVX is available (module invariant); every load reads inside
+    // the 24 numbers (the last, 2 at 22).
+    unsafe {
+        let (a, b) = (_mm256_loadu_pd(p), _mm256_loadu_pd(p.add(6)));
+        let (c, d) = (_mm256_loadu_pd(p.add(12)), _mm256_loadu_pd(p.add(18)));
+        let (t0, t1) = (_mm256_unpacklo_pd(a, b), _mm256_unpackhi_pd(a, b));
+        let (t2, t3) = (_mm256_unpacklo_pd(c, d), _mm256_unpackhi_pd(c, d));
+        let e = _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(_mm_loadu_pd(p.add(4))), _mm_loadu_pd(p.add(16)));
+        let f = _mm256_insertf128_pd::<1>(_mm256_castpd128_pd256(_mm_loadu_pd(p.add(10))), _mm_loadu_pd(p.add(22)));
+        [
+            F64x4(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+            F64x4(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+            F64x4(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+            F64x4(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+            F64x4(_mm256_unpacklo_pd(e, f)),
+            F64x4(_mm256_unpackhi_pd(e, f)),
+        ]
+    }
+}
+
+/// The inverse of [`rows_to_columns`]: six column vectors stored as four
+/// rows of six numbers into `rows[0..24]`.
+#[inline(always)]
+pub(crate) fn columns_to_rows(c: [F64x4; 6], rows: &mut [f64; 24]) {
+    let p = rows.as_mut_ptr();
+    // SAFETY: AVX is available (module invariant); every store writes
+    // inside the 24 numbers.
+    unsafe {
+        let (t0, t1) = (_mm256_unpacklo_pd(c[0].0, c[1].0), _mm256_unpackhi_pd(c[0].0, c[1].0));
+        let (t2, t3) = (_mm256_unpacklo_pd(c[2].0, c[3].0), _mm256_unpackhi_pd(c[2].0, c[3].0));
+        let (e, f) = (_mm256_unpacklo_pd(c[4].0, c[5].0), _mm256_unpackhi_pd(c[4].0, c[5].0));
+        _mm256_storeu_pd(p, _mm256_permute2f128_pd::<0x20>(t0, t2));
+        _mm_storeu_pd(p.add(4), _mm256_castpd256_pd128(e));
+        _mm256_storeu_pd(p.add(6), _mm256_permute2f128_pd::<0x20>(t1, t3));
+        _mm_storeu_pd(p.add(10), _mm256_castpd256_pd128(f));
+        _mm256_storeu_pd(p.add(12), _mm256_permute2f128_pd::<0x31>(t0, t2));
+        _mm_storeu_pd(p.add(16), _mm256_extractf128_pd::<1>(e));
+        _mm256_storeu_pd(p.add(18), _mm256_permute2f128_pd::<0x31>(t1, t3));
+        _mm_storeu_pd(p.add(22), _mm256_extractf128_pd::<1>(f));
+    }
+}
+
 impl M64x4 {
     /// One bit per lane (bit j set when lane j is true).
     #[inline(always)]

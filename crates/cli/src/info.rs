@@ -41,6 +41,9 @@ pub fn run(a: Args) -> CmdResult {
         Fixed(p.stop_semi_diameter())
     );
     outln!("  z is measured from the first vertex, +z toward the image; mm");
+    if p.is_tilted() {
+        outln!("  surfaces are decentred or tilted: the first-order data are those of the co-axial system");
+    }
     let row = |k: &str, v: String| -> Result<(), crate::StdoutError> {
         outln!("  {k:<28} {v}");
         Ok(())

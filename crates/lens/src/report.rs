@@ -33,6 +33,9 @@ pub fn info(p: &Prescription, object: ObjectDistance) -> Result<Value, OpticsErr
         "image_distance": img.image_distance,
         "magnification": img.magnification,
         "total_track": f.total_track,
+        // decentred or tilted surfaces: the numbers above are the co-axial
+        // system's
+        "tilted": p.is_tilted(),
     }))
 }
 

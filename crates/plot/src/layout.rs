@@ -8,7 +8,8 @@ use lens::{Prescription, Tracer};
 /// Points per surface profile.
 const PROFILE: usize = 48;
 
-/// The cross-section in the y-z plane (z across, y up, same scale): glass
+/// The cross-section in the y-z plane (z across, y up, same scale; a
+/// decentred or tilted surface drawn where it sits, projected): glass
 /// elements filled with true sags and edges joined, the stop as two bars,
 /// the film as a line, and `rays_per_field` meridional rays across the
 /// entrance pupil for each field angle (degrees), traced to the film or to
@@ -16,12 +17,20 @@ const PROFILE: usize = 48;
 pub fn layout_chart(p: &Prescription, fields_deg: &[f64], rays_per_field: usize, aim: Aim) -> String {
     let s = p.surfaces();
     let z = p.vertex_z();
+    // a point (0, h, z) of surface i's own frame, where the surface sits
+    // (decentred or tilted), projected on the y-z plane
+    let placed = |i: usize, h: f64, sag: f64| -> (f64, f64) {
+        let q = p
+            .placement(i)
+            .map_or(lens::DVec3::new(0.0, h, sag), |at| at.rotation * lens::DVec3::new(0.0, h, sag) + at.offset);
+        (z[i] + q.z, q.y)
+    };
     let profile = |i: usize, sign: f64| -> Vec<(f64, f64)> {
         let sd = s[i].semi_diameter.unwrap_or_else(|| fallback_sd(p, i));
         (0..=PROFILE)
             .map(|k| {
                 let h = sign * sd * (1.0 - 2.0 * k as f64 / PROFILE as f64);
-                (z[i] + s[i].sag(h.abs()).unwrap_or(0.0), h)
+                placed(i, h, s[i].sag(h.abs()).unwrap_or(0.0))
             })
             .collect()
     };
@@ -53,10 +62,10 @@ pub fn layout_chart(p: &Prescription, fields_deg: &[f64], rays_per_field: usize,
     // stop: two bars outside the clear aperture
     let st = p.stop_index();
     let r = p.stop_semi_diameter();
-    let zs = z[st] + s[st].sag(r).unwrap_or(0.0);
+    let sag = s[st].sag(r).unwrap_or(0.0);
     let outer = r * 1.35 + 1.0;
-    panel.series.push(Series::new("stop", vec![(zs, r), (zs, outer)], "#000", Style::Line));
-    panel.series.push(Series::new("", vec![(zs, -r), (zs, -outer)], "#000", Style::Line));
+    panel.series.push(Series::new("stop", vec![placed(st, r, sag), placed(st, outer, sag)], "#000", Style::Line));
+    panel.series.push(Series::new("", vec![placed(st, -r, sag), placed(st, -outer, sag)], "#000", Style::Line));
     let z_film = p.total_track();
     let mut film_h = s.iter().filter_map(|x| x.semi_diameter).fold(0.0, f64::max);
     // rays

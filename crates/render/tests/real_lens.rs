@@ -364,3 +364,28 @@ fn an_aimed_defocused_lamps_light_is_the_unaimed_renders() {
     let (ta, tb) = (mean_total(&aimed, 512, 0..8), mean_total(&plain, 4096, 100..108));
     assert!((ta / tb - 1.0).abs() < 0.005, "total light: aimed {ta:.4}, uniform {tb:.4}");
 }
+
+/// A lens with a decentred or tilted surface is refused by the real-lens
+/// camera, saying why and what to change, never rendered with bounds that
+/// assume a symmetric lens.
+#[test]
+fn a_tilted_lens_is_refused_with_the_reason() {
+    let mut spec: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(data().join("../double-gauss-50mm.json")).unwrap()).unwrap();
+    spec["surfaces"][3]["tilt_deg"] = serde_json::json!([0.5, 0.0]);
+    let dir = std::env::temp_dir().join(format!("lens-tilted-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("tilted.json"), spec.to_string()).unwrap();
+    let file: SceneFile = serde_json::from_str(
+        r#"{"camera": {"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "tilted.json",
+             "focus_distance": 2.0, "sensor_mm": [2.0, 2.0]},
+            "film": {"width": 8, "height": 8, "spp": 1},
+            "materials": {"l": {"type": "emissive", "radiance": [1, 1, 1]}},
+            "shapes": [{"type": "sphere", "center": [0, 0, 2], "radius": 0.1, "material": "l"}]}"#,
+    )
+    .unwrap();
+    let Err(e) = Scene::build(file, &dir, "<test>") else { panic!("a tilted lens was rendered") };
+    let e = e.to_string();
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(e.contains("decentred or tilted") && e.contains("remove the motions"), "{e}");
+}

@@ -5,12 +5,15 @@
 //! computes first-order optics; see docs/architecture.md for the layout.
 
 pub mod finding;
+mod motion_check;
+pub mod placement;
 pub mod prescription;
 pub mod spec;
 pub mod surface;
 pub mod validate;
 
 pub use finding::{has_errors, Finding, Severity};
+pub use placement::Placement;
 pub use prescription::Prescription;
-pub use spec::{GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
+pub use spec::{ElementSpec, GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 pub use surface::Surface;

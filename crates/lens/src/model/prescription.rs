@@ -1,7 +1,8 @@
 //! A validated lens prescription: the data every computation reads.
 
 use super::finding::{has_errors, Finding, Severity};
-use super::spec::{GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
+use super::placement::Placement;
+use super::spec::{ElementSpec, GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 use super::surface::Surface;
 use super::validate::validate;
 use crate::error::OpticsError;
@@ -44,6 +45,9 @@ pub struct Prescription {
     /// What building it had to decide, for the user (retired glass names
     /// taken as their successors).
     warnings: Vec<String>,
+    /// Elements moved as rigid bodies, as written (validated: in range,
+    /// not overlapping).
+    elements: Vec<ElementSpec>,
 }
 
 impl Prescription {
@@ -135,6 +139,7 @@ impl Prescription {
             vignetting_factors: spec.vignetting_factors.clone(),
             object_distance_mm: spec.object_distance_mm,
             warnings,
+            elements: spec.elements.clone().unwrap_or_default(),
         })
     }
 
@@ -291,6 +296,7 @@ impl Prescription {
             vignetting_factors: self.vignetting_factors.clone(),
             object_distance_mm: self.object_distance_mm,
             warnings: Vec::new(),
+            elements: (!self.elements.is_empty()).then(|| self.elements.clone()),
             surfaces: self
                 .surfaces
                 .iter()
@@ -326,10 +332,35 @@ impl Prescription {
                         odd_aspheric,
                         kind: s.paraxial.map(|_| "paraxial".to_string()),
                         focal_length_mm: s.paraxial,
+                        decenter_mm: (s.decenter_mm != [0.0; 2]).then_some(s.decenter_mm),
+                        tilt_deg: (s.tilt_deg != [0.0; 2]).then_some(s.tilt_deg),
                     }
                 })
                 .collect(),
         }
+    }
+
+    /// The elements moved as rigid bodies, as written (surfaces numbered
+    /// from 1).
+    pub fn elements(&self) -> &[ElementSpec] {
+        &self.elements
+    }
+
+    /// Where surface `i` (0-based) sits when it, or its element, is
+    /// decentred or tilted: its own motion within its element's; `None`
+    /// for a surface on the axis.
+    pub fn placement(&self, i: usize) -> Option<Placement> {
+        let s = self.surfaces.get(i)?;
+        if self.elements.is_empty() && s.decenter_mm == [0.0; 2] && s.tilt_deg == [0.0; 2] {
+            return None;
+        }
+        super::placement::of_surface(i, s.decenter_mm, s.tilt_deg, &self.vertex_z(), &self.elements)
+    }
+
+    /// Whether any surface is decentred or tilted (first-order data are
+    /// then those of the co-axial system).
+    pub fn is_tilted(&self) -> bool {
+        (0..self.surfaces.len()).any(|i| self.placement(i).is_some())
     }
 
     /// Name given in the file (may be empty).
@@ -474,5 +505,7 @@ fn surface_from_spec(s: &SurfaceSpec) -> Surface {
         stop: s.stop,
         asphere: s.asphere(),
         paraxial: s.paraxial_focal_length(),
+        decenter_mm: s.decenter_mm.unwrap_or([0.0; 2]),
+        tilt_deg: s.tilt_deg.unwrap_or([0.0; 2]),
     }
 }

@@ -61,6 +61,10 @@ pub struct PrescriptionSpec {
     pub object_distance_mm: Option<f64>,
     /// Surfaces, object side first.
     pub surfaces: Vec<SurfaceSpec>,
+    /// Elements moved as rigid bodies (decentred and tilted), each a run of
+    /// surfaces; omitted: none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elements: Option<Vec<ElementSpec>>,
     /// What reading the file had to decide that its user should know (a
     /// Zemax file's retired glass name taken as its successor, say), one
     /// sentence each; not part of the file format.
@@ -101,6 +105,34 @@ impl VignettingFactors {
     pub fn apply(&self, px: f64, py: f64) -> (f64, f64) {
         (self.decenter_x + px * (1.0 - self.compress_x), self.decenter_y + py * (1.0 - self.compress_y))
     }
+}
+
+/// A run of surfaces moved as one rigid body: decentred by `decenter_mm`,
+/// then tilted about x, then about the new y, about the decentred vertex
+/// of its first surface (Zemax's coordinate break, order 0). The surfaces
+/// after the last, and the film, stay where they were.
+///
+/// ```
+/// let spec = lens::PrescriptionSpec::from_json_str(r#"{"surfaces": [
+///   {"radius": 50, "thickness": 4, "ior": 1.5, "semi_diameter": 10, "stop": true},
+///   {"radius": -50, "thickness": 95, "semi_diameter": 10}],
+///  "elements": [{"surfaces": [1, 2], "decenter_mm": [0, 0.1], "tilt_deg": [0.5, 0]}]}"#, "<doc>").unwrap();
+/// assert_eq!(spec.elements.unwrap()[0].surfaces, [1, 2]);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ElementSpec {
+    /// The first and last surface of the element, numbered from 1,
+    /// inclusive.
+    pub surfaces: [usize; 2],
+    /// Decentre of the element, mm in x and y.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decenter_mm: Option<[f64; 2]>,
+    /// Tilt of the element, degrees: about x, then about the new y
+    /// (right-handed: a positive tilt about x turns the element's axis
+    /// toward -y).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt_deg: Option<[f64; 2]>,
 }
 
 /// The glass after a surface: a catalogue name or a model glass.
@@ -162,6 +194,15 @@ pub struct SurfaceSpec {
     /// The focal length of a `"paraxial"` surface, mm (negative: diverging).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focal_length_mm: Option<f64>,
+    /// Decentre of this surface alone, mm in x and y; the coordinates are
+    /// restored after it (the next vertex stays on the axis).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub decenter_mm: Option<[f64; 2]>,
+    /// Tilt of this surface alone, degrees: about x, then about the new y,
+    /// about its decentred vertex (right-handed; Zemax's coordinate break
+    /// of order 0, reversed after the surface).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tilt_deg: Option<[f64; 2]>,
 }
 
 impl SurfaceSpec {
@@ -180,6 +221,8 @@ impl SurfaceSpec {
             odd_aspheric: None,
             kind: None,
             focal_length_mm: None,
+            decenter_mm: None,
+            tilt_deg: None,
         }
     }
 

@@ -35,6 +35,12 @@ pub struct Surface {
     /// gains the optical path that makes a plane wave converge there
     /// exactly (docs/architecture.md, "Wave optics").
     pub paraxial: Option<f64>,
+    /// This surface's own decentre, mm in x and y (0, 0: none); see
+    /// [`super::Placement::of_motion`].
+    pub decenter_mm: [f64; 2],
+    /// This surface's own tilt, degrees about x then the new y (0, 0:
+    /// none).
+    pub tilt_deg: [f64; 2],
 }
 
 /// The most polynomial terms of an asphere: powers r^1 to r^16 (Zemax's

@@ -1,16 +1,23 @@
 //! Checks a prescription as written and reports every finding, not the first.
 
 use super::finding::{Finding, Severity};
+use super::motion_check::{check_elements, check_motion, check_moved_edge, placements, rigid_pair};
 use super::spec::{PrescriptionSpec, SurfaceSpec};
 use crate::error::num;
 
-struct Findings(Vec<Finding>);
+pub(super) struct Findings(Vec<Finding>);
 
 impl Findings {
-    fn push(&mut self, severity: Severity, surface: Option<usize>, field: Option<&'static str>, message: String) {
+    pub(super) fn push(
+        &mut self,
+        severity: Severity,
+        surface: Option<usize>,
+        field: Option<&'static str>,
+        message: String,
+    ) {
         self.0.push(Finding { severity, surface, field, message });
     }
-    fn error(&mut self, surface: usize, field: &'static str, message: String) {
+    pub(super) fn error(&mut self, surface: usize, field: &'static str, message: String) {
         self.push(Severity::Error, Some(surface), Some(field), message);
     }
 }
@@ -138,7 +145,9 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
     for (i, s) in spec.surfaces.iter().enumerate() {
         check_surface(&mut out, i + 1, s);
         check_paraxial(&mut out, spec, i);
+        check_motion(&mut out, Some(i + 1), "", s.decenter_mm, s.tilt_deg);
     }
+    let elements_fine = check_elements(&mut out, spec);
     let stops: Vec<usize> = spec.surfaces.iter().enumerate().filter(|(_, s)| s.stop).map(|(i, _)| i + 1).collect();
     match stops.len() {
         0 => out.push(
@@ -168,8 +177,12 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
             ),
         ),
     }
+    let moved = if elements_fine { placements(spec) } else { None };
     for i in 0..spec.surfaces.len().saturating_sub(1) {
-        check_edge(&mut out, spec, i);
+        match &moved {
+            Some(at) if !rigid_pair(spec, at, i) => check_moved_edge(&mut out, spec, at, i),
+            _ => check_edge(&mut out, spec, i),
+        }
     }
     if let Some(last) = spec.surfaces.last() {
         if last.thickness.is_finite() && last.thickness <= 0.0 {

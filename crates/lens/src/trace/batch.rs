@@ -18,6 +18,7 @@
 
 #[cfg(target_arch = "x86_64")]
 use super::asphere_chunk::{asphere_chunk, asphere_chunk_of, NewtonFlags, NewtonScratch};
+use super::frame::Frame;
 use super::ray::{Outcome, Ray};
 #[cfg(target_arch = "x86_64")]
 use super::spectral::ChunkIndices;
@@ -284,6 +285,57 @@ impl Rays4 {
             dz: self.dz[j][k],
             opl: self.opl[j][k],
         }
+    }
+
+    /// The first `n` four-ray vectors carried into a decentred or tilted
+    /// surface's own frame ([`Frame::enter`], the one-ray path's
+    /// operations four lanes at once).
+    #[inline(always)]
+    fn enter(&mut self, f: &Frame, n: usize) {
+        for j in 0..n {
+            let l = f.enter(self.vector(j));
+            self.set_vector(j, l);
+        }
+    }
+
+    /// The first `n` four-ray vectors carried back from a surface's own
+    /// frame ([`Frame::leave`]); the lanes not in `alive` (stopped, or
+    /// padding) go back on idle.
+    #[inline(always)]
+    fn leave(&mut self, f: &Frame, n: usize, alive: u64) {
+        for j in 0..n {
+            let l = f.leave(self.vector(j));
+            self.set_vector(j, l);
+        }
+        for i in ones(!alive & ((1u128 << (4 * n)) - 1) as u64) {
+            self.set(i, IDLE);
+        }
+    }
+
+    /// Vector `j` (rays 4 j to 4 j + 3) as lanes.
+    #[inline(always)]
+    fn vector(&self, j: usize) -> Lane<F64x4> {
+        Lane {
+            px: F64x4::load(&self.x[j]),
+            py: F64x4::load(&self.y[j]),
+            pz: F64x4::load(&self.z[j]),
+            dx: F64x4::load(&self.dx[j]),
+            dy: F64x4::load(&self.dy[j]),
+            dz: F64x4::load(&self.dz[j]),
+            opl: F64x4::load(&self.opl[j]),
+        }
+    }
+
+    /// Stores lanes `l` as vector `j`.
+    #[inline(always)]
+    fn set_vector(&mut self, j: usize, l: Lane<F64x4>) {
+        l.px.store(&mut self.x[j]);
+        l.py.store(&mut self.y[j]);
+        l.pz.store(&mut self.z[j]);
+        l.dx.store(&mut self.dx[j]);
+        l.dy.store(&mut self.dy[j]);
+        l.dz.store(&mut self.dz[j]);
+        l.opl.store(&mut self.opl[j]);
     }
 
     fn set(&mut self, i: usize, l: Lane<f64>) {
@@ -808,6 +860,10 @@ impl Tracer {
     fn trace_chunk<const PER_RAY: bool>(&self, c: &mut Chunk, m: usize, ix: &ChunkIndices) {
         let n = c.pad(m);
         for (k, s) in self.steps.iter().enumerate() {
+            // a decentred or tilted surface is met in its own frame
+            if let Some(f) = &s.frame {
+                c.live[k % 2].enter(f, n.min(VECTORS));
+            }
             match (s.refract, s.shape) {
                 (_, PARAXIAL) => paraxial_chunk(s, k, c, n),
                 (true, ASPHERE) => step_chunk::<true, ASPHERE, PER_RAY>(s, k, c, n, ix),
@@ -818,6 +874,10 @@ impl Tracer {
                 (false, PLANE) => step_chunk::<false, PLANE, PER_RAY>(s, k, c, n, ix),
                 (false, FLAT) => step_chunk::<false, FLAT, PER_RAY>(s, k, c, n, ix),
                 (false, _) => step_chunk::<false, CURVED, PER_RAY>(s, k, c, n, ix),
+            }
+            if let Some(f) = &s.frame {
+                let alive = c.alive;
+                c.live[(k + 1) % 2].leave(f, n.min(VECTORS), alive);
             }
         }
     }
@@ -1221,6 +1281,7 @@ fn stop_rays(
         // totally reflected
         let kind = kind_of(ok, converged, inside, false);
         let l = stopped(s, before.get(i), after.get(i), kind);
+        let l = s.frame.map_or(l, |f| f.leave(l));
         done.set(i, Lane { pz: l.pz + s.vertex_z, ..l });
         status[j][lane] = ((k as u64 + 1) << KIND_BITS) | kind;
         after.set(i, IDLE);

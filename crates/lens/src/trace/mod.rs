@@ -12,6 +12,7 @@ pub mod asphere;
 mod asphere_chunk;
 pub mod batch;
 pub mod bench;
+mod frame;
 pub mod ray;
 pub mod spectral;
 pub mod step;

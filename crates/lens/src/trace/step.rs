@@ -310,6 +310,11 @@ pub(crate) struct Step {
     pub zones: Option<Zones>,
     /// The focal length of a [`PARAXIAL`] step, mm (0 for any other).
     pub focal: f64,
+    /// The frame change of a decentred or tilted surface (`None` on the
+    /// axis): the step then runs in the surface's own frame, with `shift`
+    /// 0 (the frame change holds it), and its rays leave in the co-axial
+    /// frame at `vertex_z`.
+    pub frame: Option<super::frame::Frame>,
 }
 
 /// How much (relative) a clear aperture's squared radius is widened for
@@ -732,7 +737,18 @@ pub(crate) fn surface_step(
         asphere: surf.asphere,
         zones: surf.asphere.and_then(|a| rings_of(surf.curvature, &a, sd2)),
         focal: surf.paraxial.unwrap_or(0.0),
+        frame: None,
     }
+}
+
+/// [`surface_step`] at a surface's placement: a decentred or tilted
+/// surface's step takes its frame change, which holds the shift.
+pub(crate) fn placed(mut step: Step, placement: Option<crate::model::Placement>) -> Step {
+    if let Some(p) = placement {
+        step.frame = Some(super::frame::Frame::of(p, step.shift));
+        step.shift = 0.0;
+    }
+    step
 }
 
 /// An ideal thin lens of focal length `focal` (mm) in the step's vertex

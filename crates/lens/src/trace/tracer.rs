@@ -95,7 +95,7 @@ impl Tracer {
             .map(|i| {
                 let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
                 let shift = if i == lo { z[i] } else { s[i - 1].thickness };
-                surface_step(&s[i], i, before, (s[i].ior, s[i].glass), shift, z[i])
+                placed(surface_step(&s[i], i, before, (s[i].ior, s[i].glass), shift, z[i]), p.placement(i))
             })
             .collect();
         if hi < s.len() {
@@ -118,6 +118,7 @@ impl Tracer {
             asphere: None,
             zones: None,
             focal: 0.0,
+            frame: None,
         });
         Tracer::with_glasses(steps, p)
     }
@@ -153,7 +154,7 @@ impl Tracer {
             .map(|i| {
                 let shift = if i == hi - 1 { z[i] } else { -s[i].thickness };
                 let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
-                surface_step(&s[i], i, (s[i].ior, s[i].glass), before, shift, z[i])
+                placed(surface_step(&s[i], i, (s[i].ior, s[i].glass), before, shift, z[i]), p.placement(i))
             })
             .collect();
         Tracer::with_glasses(steps, p)
@@ -267,15 +268,17 @@ impl Tracer {
         mut visit: impl FnMut(&Step, &Lane<f64>, u64),
     ) -> (Lane<f64>, usize, u64) {
         for (k, s) in self.steps.iter().enumerate() {
-            let out = step_dispatch(s, self.aspheres[k].as_ref(), &lanes(s), l);
+            // a decentred or tilted surface is met in its own frame
+            let here = s.frame.map_or(l, |f| f.enter(l));
+            let out = step_dispatch(s, self.aspheres[k].as_ref(), &lanes(s), here);
             let kind = out.verdict.kind();
-            if kind != PASSED {
-                l = stopped(s, l, out.next, kind);
-                visit(s, &l, kind);
+            let (next, stop) =
+                if kind == PASSED { (out.next, false) } else { (stopped(s, here, out.next, kind), true) };
+            l = s.frame.map_or(next, |f| f.leave(next));
+            visit(s, &l, kind);
+            if stop {
                 return (l, k, kind);
             }
-            l = out.next;
-            visit(s, &l, kind);
         }
         (l, self.steps.len() - 1, PASSED)
     }

@@ -34,6 +34,14 @@ pub enum CameraError {
     /// The lens cannot be focused or set up as asked.
     #[error(transparent)]
     Optics(#[from] lens::OpticsError),
+    /// The lens has decentred or tilted surfaces, which the real-lens
+    /// camera does not render yet.
+    #[error(
+        "the lens has decentred or tilted surfaces (decenter_mm, tilt_deg or elements): the real-lens camera's \
+         exit-pupil bounds assume a lens symmetric about its axis, so it renders co-axial lenses only; remove the \
+         motions to render this lens (the lens analyses take them)"
+    )]
+    Tilted,
     /// No ray from the film centre passes the lens.
     #[error("no ray from the film centre passes the lens: check the stop and clear apertures")]
     NoLight,

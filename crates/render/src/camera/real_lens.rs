@@ -148,6 +148,9 @@ impl RealLensCamera {
         if !(sensor[0] > 0.0 && sensor[1] > 0.0 && sensor[0].is_finite() && sensor[1].is_finite()) {
             return Err(CameraError::Sensor { width: sensor[0], height: sensor[1] });
         }
+        if p.is_tilted() {
+            return Err(CameraError::Tilted);
+        }
         let film = lens::paraxial::film_for_focus_from_film(p, focus_m * 1e3)?;
         let p = p.with_film_distance(film)?;
         let z_film = p.total_track();

@@ -24,7 +24,11 @@ fn z(x: f64) -> String {
 /// afocal system), the wavelengths in µm with the primary, the design's
 /// field angles, an object surface at the design's distance (or infinity),
 /// one `SURF` per surface (`STANDARD`, `EVENASPH` or `ODDASPHE`), and the
-/// image. Catalogue glasses are written by name with their vendors in
+/// image. A decentred or tilted surface or element sits between two
+/// coordinate breaks (`COORDBRK`: the decentre and tilts, order 0; then
+/// the same negated, order 1), the run's last thickness taking the axis
+/// back to its first vertex and the second break's on to the next
+/// surface, so the surfaces after it are where they were. Catalogue glasses are written by name with their vendors in
 /// `GCAT`; model glasses as Zemax model glasses (`___BLANK`, type 1); a
 /// constant index as a model glass of Abbe number
 /// [`NON_DISPERSIVE_ABBE`] (its index changes by less than 1e-9 over the
@@ -99,8 +103,44 @@ pub fn write(p: &Prescription) -> Result<String, String> {
         Some(d) => format!("  DISZ {}", z(d)),
         None => "  DISZ INFINITY".into(),
     });
+    // a decentred or tilted run of surfaces sits between a coordinate
+    // break and the one that undoes it; its last surface's thickness goes
+    // back to the run's first vertex, and the undoing break's goes on to
+    // the next surface (the coordinates restored on the axis)
+    let z_at = p.vertex_z();
+    let mut number = 0;
+    let mut next_surf = |line: &mut dyn FnMut(String)| {
+        number += 1;
+        line(format!("SURF {number}"));
+    };
+    let brk = |line: &mut dyn FnMut(String), d: [f64; 2], t: [f64; 2], undo: bool, disz: f64| {
+        let sign = if undo { -1.0 } else { 1.0 };
+        line("  TYPE COORDBRK".into());
+        line("  CURV 0 0 0 0 0 \"\"".into());
+        for (k, v) in [d[0], d[1], t[0], t[1]].iter().enumerate() {
+            line(format!("  PARM {} {}", k + 1, z(sign * v)));
+        }
+        line("  PARM 5 0".into());
+        line(format!("  PARM 6 {}", u8::from(undo)));
+        line(format!("  DISZ {}", z(disz)));
+    };
     for (i, s) in p.surfaces().iter().enumerate() {
-        line(format!("SURF {}", i + 1));
+        let element = p.elements().iter().find(|e| (e.surfaces[0]..=e.surfaces[1]).contains(&(i + 1)));
+        let motion =
+            |e: &crate::model::ElementSpec| (e.decenter_mm.unwrap_or([0.0; 2]), e.tilt_deg.unwrap_or([0.0; 2]));
+        if let Some(e) = element.filter(|e| e.surfaces[0] == i + 1) {
+            let (d, t) = motion(e);
+            next_surf(&mut line);
+            brk(&mut line, d, t, false, 0.0);
+        }
+        let own = s.decenter_mm != [0.0; 2] || s.tilt_deg != [0.0; 2];
+        if own {
+            next_surf(&mut line);
+            brk(&mut line, s.decenter_mm, s.tilt_deg, false, 0.0);
+        }
+        let closes = element.filter(|e| e.surfaces[1] == i + 1);
+        let thickness = closes.map_or(s.thickness, |e| z_at[e.surfaces[0] - 1] - z_at[i]);
+        next_surf(&mut line);
         let kind = match &s.asphere {
             _ if s.paraxial.is_some() => "PARAXIAL",
             Some(a) if a.degree() > 0 && !a.is_even() => "ODDASPHE",
@@ -126,7 +166,7 @@ pub fn write(p: &Prescription) -> Result<String, String> {
                 line(format!("  CONI {}", z(a.conic)));
             }
         }
-        line(format!("  DISZ {}", z(s.thickness)));
+        line(format!("  DISZ {}", z(if own { 0.0 } else { thickness })));
         match s.glass.and_then(|g| p.glasses().get(g)) {
             Some(g) if g.catalog == "MODEL" => {
                 let (nd, vd) = (g.catalog_nd.unwrap_or(s.ior), g.catalog_vd.unwrap_or(0.0));
@@ -149,8 +189,17 @@ pub fn write(p: &Prescription) -> Result<String, String> {
                 line(format!("  FLAP 0 {} 0", z(sd)));
             }
         }
+        if own {
+            next_surf(&mut line);
+            brk(&mut line, s.decenter_mm, s.tilt_deg, true, thickness);
+        }
+        if let Some(e) = closes {
+            let (d, t) = motion(e);
+            next_surf(&mut line);
+            brk(&mut line, d, t, true, z_at[i] - z_at[e.surfaces[0] - 1] + s.thickness);
+        }
     }
-    line(format!("SURF {}", p.surfaces().len() + 1));
+    line(format!("SURF {}", number + 1));
     line("  TYPE STANDARD".into());
     line("  CURV 0".into());
     line("  DISZ 0".into());

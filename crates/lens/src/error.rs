@@ -284,6 +284,13 @@ pub enum OpticsError {
         /// Its outcome, in words.
         why: String,
     },
+    /// An analysis that relies on the lens being symmetric about its axis
+    /// was asked of a lens with decentred or tilted surfaces.
+    #[error("{analysis} assumes a lens symmetric about its axis, and this one has decentred or tilted surfaces: use the fans, spots and wave analyses, which trace the moved surfaces, or remove the motions")]
+    NotCoaxial {
+        /// The analysis, in words.
+        analysis: &'static str,
+    },
     /// No real ray of the on-axis bundle reaches the film.
     #[error("no real ray reaches the image: {why}")]
     NoRealRays {

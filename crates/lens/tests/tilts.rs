@@ -302,3 +302,34 @@ fn zemax_coordinate_breaks_read_as_elements_or_are_refused() {
     let e = format!("{:?}", lens::io::zemax::read(&open, Catalogs::shipped()).unwrap_err());
     assert!(e.contains("coordinate break"), "{e}");
 }
+
+/// On a moved lens the ray analyses trace the moved surfaces (a decentred
+/// element moves the spot by a known amount: the whole lens decentred
+/// moves it by the decentre), and the analyses that rely on the lens's
+/// symmetry refuse it, naming themselves and what to use instead.
+#[test]
+fn analyses_trace_moved_lenses_or_refuse_them() {
+    use lens::analysis::{fan::ImagePlane, pattern::Pattern, spot::spot_diagram, Aim, Field};
+    let mut spec = spec_of("double-gauss-50mm.json");
+    let straight = Prescription::from_spec(&spec).unwrap();
+    let n = spec.surfaces.len();
+    spec.elements = Some(vec![ElementSpec { surfaces: [1, n], decenter_mm: Some([0.3, -0.2]), tilt_deg: None }]);
+    let moved = Prescription::from_spec(&spec).unwrap();
+    let spot = |p: &Prescription| {
+        spot_diagram(p, Field::Angle(3.0), Pattern::Gauss, 8, Aim::Paraxial, ImagePlane::ImageSurface).unwrap()
+    };
+    // the rays are aimed at the unperturbed pupil, which the moved stop no
+    // longer centres: the spot is not simply shifted, but its centroid
+    // moves toward the decentre
+    let (a, b) = (spot(&straight), spot(&moved));
+    assert!(
+        b.centroid[0] > a.centroid[0] + 0.1 && b.centroid[1] < a.centroid[1] - 0.05,
+        "{:?} {:?}",
+        a.centroid,
+        b.centroid
+    );
+    let e = lens::analysis::focus::focus(&moved, lens::paraxial::ObjectDistance::Infinity).unwrap_err().to_string();
+    assert!(e.contains("symmetric about its axis") && e.contains("fans, spots"), "{e}");
+    let e = lens::analysis::curves::field_curves(&moved, None, 5, Aim::Paraxial).unwrap_err().to_string();
+    assert!(e.contains("field curves"), "{e}");
+}

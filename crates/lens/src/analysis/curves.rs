@@ -99,6 +99,12 @@ pub fn field_curves(
     n: usize,
     aim: Aim,
 ) -> Result<FieldCurves, OpticsError> {
+    // fields along +y stand for every azimuth only in a symmetric lens
+    if p.is_tilted() {
+        return Err(OpticsError::NotCoaxial {
+            analysis: "field curves (field curvature and distortion against field)",
+        });
+    }
     let first = FirstOrder::of(p)?;
     let geometry = Geometry::of(p, &first)?;
     let image_z = geometry.image_z;

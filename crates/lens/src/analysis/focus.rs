@@ -91,6 +91,12 @@ impl AxialBundle {
         film: f64,
         nodes: usize,
     ) -> Result<Self, OpticsError> {
+        // one meridian stands for the whole bundle only in a symmetric lens
+        if p.is_tilted() {
+            return Err(OpticsError::NotCoaxial {
+                analysis: "the real-ray focus of the axial bundle (focus, circle of confusion, convergence)",
+            });
+        }
         let tracer = Tracer::forward_to_film(p, film);
         let ep = first.entrance_pupil;
         let r_ep = ep.diameter / 2.0;

@@ -292,6 +292,7 @@ impl Rays4 {
     /// operations four lanes at once).
     #[inline(always)]
     fn enter(&mut self, f: &Frame, n: usize) {
+        let f = f.lanes::<F64x4>();
         for j in 0..n {
             let l = f.enter(self.vector(j));
             self.set_vector(j, l);
@@ -303,6 +304,7 @@ impl Rays4 {
     /// padding) go back on idle.
     #[inline(always)]
     fn leave(&mut self, f: &Frame, n: usize, alive: u64) {
+        let f = f.lanes::<F64x4>();
         for j in 0..n {
             let l = f.leave(self.vector(j));
             self.set_vector(j, l);
@@ -312,7 +314,8 @@ impl Rays4 {
         }
     }
 
-    /// Vector `j` (rays 4 j to 4 j + 3) as lanes.
+    /// Vector `j` (rays 4 j to 4 j + 3) as lanes, positions and directions
+    /// only (a frame change leaves the path length alone: 0 here).
     #[inline(always)]
     fn vector(&self, j: usize) -> Lane<F64x4> {
         Lane {
@@ -322,11 +325,11 @@ impl Rays4 {
             dx: F64x4::load(&self.dx[j]),
             dy: F64x4::load(&self.dy[j]),
             dz: F64x4::load(&self.dz[j]),
-            opl: F64x4::load(&self.opl[j]),
+            opl: F64x4::splat(0.0),
         }
     }
 
-    /// Stores lanes `l` as vector `j`.
+    /// Stores the positions and directions of lanes `l` as vector `j`.
     #[inline(always)]
     fn set_vector(&mut self, j: usize, l: Lane<F64x4>) {
         l.px.store(&mut self.x[j]);
@@ -335,7 +338,6 @@ impl Rays4 {
         l.dx.store(&mut self.dx[j]);
         l.dy.store(&mut self.dy[j]);
         l.dz.store(&mut self.dz[j]);
-        l.opl.store(&mut self.opl[j]);
     }
 
     fn set(&mut self, i: usize, l: Lane<f64>) {

@@ -35,32 +35,64 @@ impl Frame {
         Frame { r, into: [o.x, o.y, o.z + shift], out: o.to_array() }
     }
 
+    /// The frame change's numbers in lanes of `L`, made once per chunk
+    /// (broadcast out of the loop over its vectors).
+    #[inline(always)]
+    pub(crate) fn lanes<L: Real>(&self) -> FrameLanes<L> {
+        let s = L::splat;
+        FrameLanes { r: self.r.map(|row| row.map(s)), into: self.into.map(s), out: self.out.map(s) }
+    }
+
     /// The ray `l` (frame of the step before) in the surface's own frame.
     #[inline(always)]
-    pub(crate) fn enter<L: Real>(&self, l: Lane<L>) -> Lane<L> {
-        let s = L::splat;
-        let q = [l.px - s(self.into[0]), l.py - s(self.into[1]), l.pz - s(self.into[2])];
-        let d = [l.dx, l.dy, l.dz];
-        // component i of R^T v: column i of R against v
-        let rt = |i: usize, v: [L; 3]| s(self.r[2][i]).fma(v[2], s(self.r[1][i]).fma(v[1], s(self.r[0][i]) * v[0]));
-        Lane { px: rt(0, q), py: rt(1, q), pz: rt(2, q), dx: rt(0, d), dy: rt(1, d), dz: rt(2, d), opl: l.opl }
+    pub(crate) fn enter(&self, l: Lane<f64>) -> Lane<f64> {
+        self.lanes().enter(l)
     }
 
     /// The ray `l` (the surface's own frame) in the co-axial frame at the
     /// surface's unperturbed vertex.
     #[inline(always)]
-    pub(crate) fn leave<L: Real>(&self, l: Lane<L>) -> Lane<L> {
-        let s = L::splat;
+    pub(crate) fn leave(&self, l: Lane<f64>) -> Lane<f64> {
+        self.lanes().leave(l)
+    }
+}
+
+/// A [`Frame`] in lanes of `L`.
+#[derive(Clone, Copy)]
+pub(crate) struct FrameLanes<L> {
+    r: [[L; 3]; 3],
+    into: [L; 3],
+    out: [L; 3],
+}
+
+impl<L: Real> FrameLanes<L> {
+    /// The rays `l` (frame of the step before) in the surface's own frame;
+    /// their path lengths as they are.
+    #[inline(always)]
+    pub(crate) fn enter(&self, l: Lane<L>) -> Lane<L> {
+        let r = &self.r;
+        let q = [l.px - self.into[0], l.py - self.into[1], l.pz - self.into[2]];
+        let d = [l.dx, l.dy, l.dz];
+        // component i of R^T v: column i of R against v
+        let rt = |i: usize, v: [L; 3]| r[2][i].fma(v[2], r[1][i].fma(v[1], r[0][i] * v[0]));
+        Lane { px: rt(0, q), py: rt(1, q), pz: rt(2, q), dx: rt(0, d), dy: rt(1, d), dz: rt(2, d), opl: l.opl }
+    }
+
+    /// The rays `l` (the surface's own frame) in the co-axial frame at the
+    /// surface's unperturbed vertex.
+    #[inline(always)]
+    pub(crate) fn leave(&self, l: Lane<L>) -> Lane<L> {
+        let r = &self.r;
         let p = [l.px, l.py, l.pz];
         let d = [l.dx, l.dy, l.dz];
-        let r = |i: usize, v: [L; 3]| s(self.r[i][2]).fma(v[2], s(self.r[i][1]).fma(v[1], s(self.r[i][0]) * v[0]));
+        let m = |i: usize, v: [L; 3]| r[i][2].fma(v[2], r[i][1].fma(v[1], r[i][0] * v[0]));
         Lane {
-            px: r(0, p) + s(self.out[0]),
-            py: r(1, p) + s(self.out[1]),
-            pz: r(2, p) + s(self.out[2]),
-            dx: r(0, d),
-            dy: r(1, d),
-            dz: r(2, d),
+            px: m(0, p) + self.out[0],
+            py: m(1, p) + self.out[1],
+            pz: m(2, p) + self.out[2],
+            dx: m(0, d),
+            dy: m(1, d),
+            dz: m(2, d),
             opl: l.opl,
         }
     }

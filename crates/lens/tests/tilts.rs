@@ -9,14 +9,6 @@ use common::*;
 use lens::model::ElementSpec;
 use lens::{DVec3, Outcome, Prescription, PrescriptionSpec, Ray, RayBatch, Tracer};
 
-fn same(a: &Outcome, b: &Outcome) -> bool {
-    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
-    std::mem::discriminant(a) == std::mem::discriminant(b)
-        && bits(a.ray().origin) == bits(b.ray().origin)
-        && bits(a.ray().direction) == bits(b.ray().direction)
-        && a.opl().to_bits() == b.opl().to_bits()
-}
-
 fn spec_of(name: &str) -> PrescriptionSpec {
     lens::load_spec(&data_dir().join(name)).unwrap()
 }

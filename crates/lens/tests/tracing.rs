@@ -71,15 +71,6 @@ fn near_axis_real_rays_reproduce_paraxial_focus_on_every_shipped_lens() {
     }
 }
 
-/// The same outcome, bit for bit.
-fn same(a: &Outcome, b: &Outcome) -> bool {
-    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
-    std::mem::discriminant(a) == std::mem::discriminant(b)
-        && bits(a.ray().origin) == bits(b.ray().origin)
-        && bits(a.ray().direction) == bits(b.ray().direction)
-        && a.opl().to_bits() == b.opl().to_bits()
-}
-
 /// 0 reached, 1 blocked, 2 missed, 3 total internal reflection.
 fn kind_index(o: &Outcome) -> usize {
     match o {

@@ -1,7 +1,7 @@
 //! Helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use lens::{Prescription, PrescriptionSpec, SurfaceSpec};
+use lens::{DVec3, Outcome, Prescription, PrescriptionSpec, SurfaceSpec};
 
 pub fn surf(radius: Option<f64>, thickness: f64, ior: Option<f64>, sd: f64, stop: bool) -> SurfaceSpec {
     SurfaceSpec { ior, semi_diameter: Some(sd), stop, ..SurfaceSpec::new(radius, thickness) }
@@ -56,4 +56,13 @@ pub fn shipped_lenses() -> Vec<(String, Prescription)> {
 
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-300)
+}
+
+/// Whether two outcomes are the same to the bit: kind, ray and path length.
+pub fn same(a: &Outcome, b: &Outcome) -> bool {
+    let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+    std::mem::discriminant(a) == std::mem::discriminant(b)
+        && bits(a.ray().origin) == bits(b.ray().origin)
+        && bits(a.ray().direction) == bits(b.ray().direction)
+        && a.opl().to_bits() == b.opl().to_bits()
 }

@@ -350,3 +350,26 @@ fn moved_lenses_are_reversible() {
     }
     assert!(checked > 60, "{checked}");
 }
+
+/// Two surfaces moved together inside a moved element are two elements
+/// that overlap: refused while reading, saying what may nest.
+#[test]
+fn zemax_runs_nest_one_surface_deep() {
+    use lens::glass::Catalogs;
+    let brk =
+        |n: usize, v: f64, order: u8| format!("SURF {n}\n  TYPE COORDBRK\n  PARM 1 {v}\n  PARM 6 {order}\n  DISZ 0\n");
+    let lens_surf = |n: usize, c: f64, disz: f64| format!("SURF {n}\n  CURV {c}\n  DISZ {disz}\n  DIAM 8\n");
+    let text = format!(
+        "MODE SEQ\nUNIT MM X W X CM MR CPMM\nENPD 10\nWAVM 1 0.5875618 1\nPWAV 1\nSURF 0\n  DISZ INFINITY\n\
+         SURF 1\n  STOP\n  CURV 0\n  DISZ 5\n  DIAM 5\n{}{}{}{}{}{}{}SURF 9\n  CURV 0\n  DISZ 0\n",
+        brk(2, 0.1, 0),
+        brk(3, 0.2, 0),
+        lens_surf(4, 0.02, 4.0),
+        lens_surf(5, -0.02, 90.0),
+        brk(6, -0.2, 1),
+        brk(7, -0.1, 1),
+        lens_surf(8, 0.0, 10.0),
+    );
+    let e = format!("{:?}", lens::io::zemax::read(&text, Catalogs::shipped()).unwrap_err());
+    assert!(e.contains("only one surface's own decentre and tilt may nest"), "{e}");
+}

@@ -17,11 +17,11 @@ const PROFILE: usize = 48;
 pub fn layout_chart(p: &Prescription, fields_deg: &[f64], rays_per_field: usize, aim: Aim) -> String {
     let s = p.surfaces();
     let z = p.vertex_z();
+    let placements = p.placements();
     // a point (0, h, z) of surface i's own frame, where the surface sits
     // (decentred or tilted), projected on the y-z plane
     let placed = |i: usize, h: f64, sag: f64| -> (f64, f64) {
-        let q = p
-            .placement(i)
+        let q = placements[i]
             .map_or(lens::DVec3::new(0.0, h, sag), |at| at.rotation * lens::DVec3::new(0.0, h, sag) + at.offset);
         (z[i] + q.z, q.y)
     };

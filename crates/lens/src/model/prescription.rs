@@ -348,19 +348,29 @@ impl Prescription {
 
     /// Where surface `i` (0-based) sits when it, or its element, is
     /// decentred or tilted: its own motion within its element's; `None`
-    /// for a surface on the axis.
+    /// for a surface on the axis (or past the last). One surface of
+    /// [`Self::placements`].
     pub fn placement(&self, i: usize) -> Option<Placement> {
-        let s = self.surfaces.get(i)?;
-        if self.elements.is_empty() && s.decenter_mm == [0.0; 2] && s.tilt_deg == [0.0; 2] {
-            return None;
+        self.placements().get(i).copied().flatten()
+    }
+
+    /// [`Self::placement`] of every surface, the vertices' positions
+    /// computed once (empty work for a lens with no motions).
+    pub fn placements(&self) -> Vec<Option<Placement>> {
+        let moved = |s: &Surface| s.decenter_mm != [0.0; 2] || s.tilt_deg != [0.0; 2];
+        if self.elements.is_empty() && !self.surfaces.iter().any(moved) {
+            return vec![None; self.surfaces.len()];
         }
-        super::placement::of_surface(i, s.decenter_mm, s.tilt_deg, &self.vertex_z(), &self.elements)
+        let z = self.vertex_z();
+        let of =
+            |(i, s): (usize, &Surface)| super::placement::of_surface(i, s.decenter_mm, s.tilt_deg, &z, &self.elements);
+        self.surfaces.iter().enumerate().map(of).collect()
     }
 
     /// Whether any surface is decentred or tilted (first-order data are
     /// then those of the co-axial system).
     pub fn is_tilted(&self) -> bool {
-        (0..self.surfaces.len()).any(|i| self.placement(i).is_some())
+        self.placements().iter().any(Option::is_some)
     }
 
     /// Name given in the file (may be empty).

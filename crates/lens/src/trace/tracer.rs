@@ -89,13 +89,14 @@ impl Tracer {
     fn forward_steps(p: &Prescription, range: std::ops::Range<usize>, film_distance: f64) -> Self {
         let z = p.vertex_z();
         let s = p.surfaces();
+        let placed_at = p.placements();
         let hi = range.end.min(s.len());
         let lo = range.start.min(hi);
         let mut steps: Vec<Step> = (lo..hi)
             .map(|i| {
                 let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
                 let shift = if i == lo { z[i] } else { s[i - 1].thickness };
-                placed(surface_step(&s[i], i, before, (s[i].ior, s[i].glass), shift, z[i]), p.placement(i))
+                placed(surface_step(&s[i], i, before, (s[i].ior, s[i].glass), shift, z[i]), placed_at[i])
             })
             .collect();
         if hi < s.len() {
@@ -147,6 +148,7 @@ impl Tracer {
     pub fn reverse_range(p: &Prescription, range: std::ops::Range<usize>) -> Self {
         let z = p.vertex_z();
         let s = p.surfaces();
+        let placed_at = p.placements();
         let hi = range.end.min(s.len());
         let lo = range.start.min(hi);
         let steps = (lo..hi)
@@ -154,7 +156,7 @@ impl Tracer {
             .map(|i| {
                 let shift = if i == hi - 1 { z[i] } else { -s[i].thickness };
                 let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
-                placed(surface_step(&s[i], i, (s[i].ior, s[i].glass), before, shift, z[i]), p.placement(i))
+                placed(surface_step(&s[i], i, (s[i].ior, s[i].glass), before, shift, z[i]), placed_at[i])
             })
             .collect();
         Tracer::with_glasses(steps, p)

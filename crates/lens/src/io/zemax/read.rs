@@ -518,6 +518,17 @@ fn coordinate_breaks(blocks: &[Block], s: f64) -> Result<(RealSurfaces<'_>, Vec<
         if undoes {
             let (_, d, t, first) = open.pop().expect("an open break");
             let last = real.len() - 1;
+            if !open.is_empty() && first != last {
+                return Err(err(
+                    b.line,
+                    format!(
+                        "surface {}: a run of {} surfaces moved inside another moved run: only one surface's own \
+                         decentre and tilt may nest inside an element's",
+                        b.number,
+                        last - first + 1
+                    ),
+                ));
+            }
             // where the axis is after the run: it must be back on the axis
             let rotation = crate::model::Placement::of_motion(d, t).rotation;
             let h: f64 = real[first..last].iter().map(|r| r.1 * s).sum();
@@ -562,8 +573,7 @@ fn coordinate_breaks(blocks: &[Block], s: f64) -> Result<(RealSurfaces<'_>, Vec<
             ),
         ));
     }
-    // inner runs (a surface's own motion) close first; elements after
-    moved.sort_by_key(|m: &Moved| (m.first != m.last, m.first));
+    // in the order they close: a surface's own run before its element's
     Ok((real, moved))
 }
 

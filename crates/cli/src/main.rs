@@ -32,6 +32,7 @@ mod glass;
 mod info;
 mod layout;
 mod mtf;
+mod optimize;
 mod outputs;
 mod psf;
 mod render;
@@ -81,6 +82,8 @@ enum Command {
     Glass(glass::Args),
     /// Draw the lens cross-section with ray bundles.
     Layout(layout::Args),
+    /// Optimise a design file's variables against its merit function (damped least squares).
+    Optimize(optimize::Args),
     /// Error against run time of the pupil-sampled statistics (markdown).
     Convergence(convergence::Args),
     /// Render a scene through a pinhole, thin lens or real lens.
@@ -110,6 +113,7 @@ fn main() -> ExitCode {
         Command::Glass(a) => glass::run(a),
         Command::Layout(a) => layout::run(a),
         Command::Convergence(a) => convergence::run(a),
+        Command::Optimize(a) => optimize::run(a),
         Command::Render(a) => render::run(a),
         Command::Study(a) => study::run(a),
         Command::Bench(a) => bench::run(a),

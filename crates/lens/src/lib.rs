@@ -14,7 +14,9 @@
 //!   pupils, f-numbers, conjugates, focus);
 //! - [`analysis`]: what an optical engineer asks of a lens (fans, spots,
 //!   circles of confusion, field curves, best focus), all on one ray-bundle
-//!   primitive traced by the batch tracer.
+//!   primitive traced by the batch tracer;
+//! - [`design`]: merit functions over a prescription's variables and their
+//!   optimisation by damped least squares.
 //!
 //! Conventions (docs/architecture.md): +z is the optical axis, light travels
 //! toward +z, lengths are millimetres, positions are z from the first
@@ -32,6 +34,7 @@
 //! ```
 
 pub mod analysis;
+pub mod design;
 pub mod error;
 pub mod glass;
 pub mod io;

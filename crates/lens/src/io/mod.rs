@@ -19,6 +19,28 @@ pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
     load_spec_with(path, Catalogs::shipped())
 }
 
+/// A prescription file as written and the catalogues its glasses are
+/// looked up in: `extra` (a user's, from the command line) first, then a
+/// JSON file's `glass_catalogs` (relative to it), then the shipped ones; a
+/// Zemax file's `GCAT` vendors are searched first among those.
+pub fn load_spec_and_catalogs(path: &Path, extra: Vec<Catalog>) -> Result<(PrescriptionSpec, Catalogs), LoadError> {
+    let origin = path.display().to_string();
+    if is_zemax(path) {
+        let catalogs = Catalogs::with(extra);
+        let spec = load_spec_with(path, &catalogs)?;
+        return Ok((spec, catalogs));
+    }
+    let spec = load_spec(path)?;
+    let mut catalogs = extra;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    for name in spec.glass_catalogs.iter().flatten() {
+        let c = crate::glass::agf::load(&dir.join(name))
+            .map_err(|e| LoadError::Glass { origin: origin.clone(), source: e })?;
+        catalogs.push(c);
+    }
+    Ok((spec, Catalogs::with(catalogs)))
+}
+
 /// Whether `path` names a Zemax lens file (extension `zmx`).
 pub fn is_zemax(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zmx"))
@@ -76,20 +98,7 @@ impl Prescription {
     pub fn load_with(path: impl AsRef<Path>, extra: Vec<Catalog>) -> Result<Self, LoadError> {
         let path = path.as_ref();
         let origin = path.display().to_string();
-        if is_zemax(path) {
-            let catalogs = Catalogs::with(extra);
-            let spec = load_spec_with(path, &catalogs)?;
-            return Self::from_spec_with(&spec, &catalogs).map_err(|findings| LoadError::Invalid { origin, findings });
-        }
-        let spec = load_spec(path)?;
-        let mut catalogs = extra;
-        let dir = path.parent().unwrap_or(Path::new("."));
-        for name in spec.glass_catalogs.iter().flatten() {
-            let c = crate::glass::agf::load(&dir.join(name))
-                .map_err(|e| LoadError::Glass { origin: origin.clone(), source: e })?;
-            catalogs.push(c);
-        }
-        let catalogs = Catalogs::with(catalogs);
+        let (spec, catalogs) = load_spec_and_catalogs(path, extra)?;
         Self::from_spec_with(&spec, &catalogs).map_err(|findings| LoadError::Invalid { origin, findings })
     }
 }

@@ -110,6 +110,14 @@ pub fn stats_of(samples: &[((f64, f64), f64, f64)]) -> WavefrontStats {
     s
 }
 
+/// The RMS wavefront error of `w` with piston and tilt removed (Zemax's
+/// "RMS (to centroid)"), waves: [`WavefrontStats::rms_to_centroid`]
+/// without the Strehl ratio's transform.
+pub fn rms_to_centroid(w: &Wavefront) -> f64 {
+    let samples: Vec<((f64, f64), f64, f64)> = w.passing().collect();
+    moments(&samples).rms_to_centroid
+}
+
 /// The statistics of samples but the Strehl ratio (left 0).
 fn moments(samples: &[((f64, f64), f64, f64)]) -> WavefrontStats {
     let total: f64 = samples.iter().map(|s| s.1).sum();

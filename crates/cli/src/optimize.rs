@@ -31,7 +31,8 @@ pub struct Args {
     /// tables, spot and MTF pictures beside it as PNG).
     #[arg(long, value_name = "FILE")]
     report: Option<PathBuf>,
-    /// The most iterations (overrides the design file's max_iterations).
+    /// The most iterations (overrides the design file's max_iterations); 0
+    /// evaluates the merit function of the start without changing it.
     #[arg(long, value_name = "N")]
     max_iterations: Option<usize>,
     #[command(flatten)]
@@ -58,9 +59,6 @@ pub fn run(args: Args) -> CmdResult {
     crate::outputs::check(&outs, &inputs)?;
     let mut design = Design::load(&args.spec, args.catalogs.user_catalogs()?)?;
     if let Some(n) = args.max_iterations {
-        if n == 0 {
-            return Err("--max-iterations: give 1 or more".into());
-        }
         design.max_iterations = n;
     }
     let o = optimize(&design)?;

@@ -597,3 +597,86 @@ fn psf_json_has_its_keys_and_writes_an_exr() {
     assert!(err.contains("--pad"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `lens optimize` on the shipped design: the JSON keys of the issue, the
+/// designed file and the report with its pictures written, and each
+/// operand's value the number the analysis commands print for the designed
+/// lens (EFL from `lens info`, RMS spot from `lens spot`, the same rings
+/// and wavelengths, on its image surface).
+#[test]
+fn optimize_json_contract_and_values_match_the_analyses() {
+    let dir = std::env::temp_dir().join(format!("lens-optimize-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("designed.json");
+    let report = dir.join("report.md");
+    let (code, stdout, err) = lens(&[
+        "optimize",
+        "lens-data/design/cooke-triplet.design.json",
+        "-o",
+        out.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&stdout);
+    for k in ["merit_start", "merit_end", "seconds"] {
+        assert!(v[k].is_f64(), "{k} missing in {v}");
+    }
+    assert!(v["iterations"].is_u64());
+    assert!(v["merit_end"].as_f64().unwrap() < 0.1 * v["merit_start"].as_f64().unwrap(), "{v}");
+    let ops = v["operands"].as_array().unwrap();
+    assert_eq!(ops.len(), 6);
+    assert_eq!(ops[0]["type"], "efl");
+    assert!(ops.iter().all(|o| o["value"].is_f64() && o["type"].is_string()), "{v}");
+    assert!(ops[4]["target"].is_null() && ops[4]["min"] == 1.0, "{v}");
+    for f in ["report.md", "report-spot-start.png", "report-spot-end.png", "report-mtf-start.png", "report-mtf-end.png"]
+    {
+        assert!(dir.join(f).metadata().is_ok_and(|m| m.len() > 100), "{f} not written");
+    }
+    let designed = out.to_str().unwrap();
+    let (code, info, err) = lens(&["info", designed, "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let efl = json(&info)["efl"].as_f64().unwrap();
+    assert!((efl - ops[0]["value"].as_f64().unwrap()).abs() < 1e-12 * efl);
+    for (k, field) in [(1, "0"), (3, "14")] {
+        let (code, spot, err) = lens(&["spot", designed, "--field-deg", field, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        let rms = json(&spot)["rms_radius"].as_f64().unwrap();
+        let op = ops[k]["value"].as_f64().unwrap();
+        assert!((rms - op).abs() <= 1e-12 * rms, "field {field}: spot {rms} vs operand {op}");
+    }
+    // evaluating only: the start's merit, nothing changed
+    let (code, stdout, err) =
+        lens(&["optimize", "lens-data/design/cooke-triplet.design.json", "--max-iterations", "0", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let w = json(&stdout);
+    assert_eq!(w["merit_start"], w["merit_end"]);
+    assert_eq!(w["merit_start"], v["merit_start"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// A bad design file is refused with exit code 1, the operand named, and
+/// nothing written.
+#[test]
+fn optimize_refuses_a_bad_design() {
+    let dir = std::env::temp_dir().join(format!("lens-optimize-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let spec = dir.join("bad.json");
+    let start = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/cooke-triplet.json");
+    std::fs::write(
+        &spec,
+        format!(
+            r#"{{"prescription": "{}", "variables": [{{"surface": 1, "param": "radius"}}],
+                "operands": [{{"type": "f_number", "target": 0.2}}]}}"#,
+            start.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("designed.json");
+    let (code, _, err) = lens(&["optimize", spec.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("operand 1 (f_number)") && err.contains("f/0.5"), "{err}");
+    assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

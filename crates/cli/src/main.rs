@@ -38,6 +38,7 @@ mod psf;
 mod render;
 mod spot;
 mod study;
+mod tolerance;
 mod validate;
 mod warnings;
 mod wavefront;
@@ -84,6 +85,8 @@ enum Command {
     Layout(layout::Args),
     /// Optimise a design file's variables against its merit function (damped least squares).
     Optimize(optimize::Args),
+    /// Tolerancing: sensitivity table and Monte Carlo yield (shares and their merge for clusters).
+    Tolerance(tolerance::Args),
     /// Error against run time of the pupil-sampled statistics (markdown).
     Convergence(convergence::Args),
     /// Render a scene through a pinhole, thin lens or real lens.
@@ -114,6 +117,7 @@ fn main() -> ExitCode {
         Command::Layout(a) => layout::run(a),
         Command::Convergence(a) => convergence::run(a),
         Command::Optimize(a) => optimize::run(a),
+        Command::Tolerance(a) => tolerance::run(a),
         Command::Render(a) => render::run(a),
         Command::Study(a) => study::run(a),
         Command::Bench(a) => bench::run(a),

@@ -680,3 +680,56 @@ fn optimize_refuses_a_bad_design() {
     assert!(!out.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `lens tolerance`: the JSON keys, the picture, and shares that merge
+/// into the one run's statistics exactly; a share out of range refused.
+#[test]
+fn tolerance_json_contract_and_shares_merge_to_the_whole_run() {
+    let dir = std::env::temp_dir().join(format!("lens-tolerance-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let spec = "lens-data/design/cooke-triplet.tolerance.json";
+    let plot = dir.join("yield.png");
+    let (code, out, err) =
+        lens(&["tolerance", spec, "--trials", "90", "--seed", "4", "--json", "--plot", plot.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let whole = json(&out);
+    assert!(whole["nominal"].is_f64() && whole["seconds"].is_f64(), "{whole}");
+    let mc = &whole["monte_carlo"];
+    for k in ["mean", "std", "yield"] {
+        assert!(mc[k].is_f64(), "{k} missing in {mc}");
+    }
+    for k in ["p10", "p50", "p90", "p98"] {
+        assert!(mc["percentiles"][k].is_f64(), "{k} missing in {mc}");
+    }
+    assert_eq!(mc["trials"], 90);
+    assert_eq!(whole["sensitivity"].as_array().unwrap().len(), 16);
+    assert!(plot.metadata().is_ok_and(|m| m.len() > 1000));
+    let mut shares = Vec::new();
+    for i in 1..=2 {
+        let share = dir.join(format!("share{i}.json"));
+        let (code, _, err) = lens(&[
+            "tolerance",
+            spec,
+            "--trials",
+            "90",
+            "--seed",
+            "4",
+            "--shard",
+            &format!("{i}/2"),
+            "-o",
+            share.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{err}");
+        shares.push(share.to_str().unwrap().to_string());
+    }
+    let (code, out, err) = lens(&["tolerance", "merge", spec, &shares[1], &shares[0], "--json"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(json(&out)["monte_carlo"], whole["monte_carlo"]);
+    let (code, _, err) = lens(&["tolerance", "merge", spec, &shares[1]]);
+    assert_eq!(code, 1);
+    assert!(err.contains("in no share"), "{err}");
+    let (code, _, err) = lens(&["tolerance", spec, "--shard", "5/4", "-o", dir.join("x.json").to_str().unwrap()]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("1 <= I <= N"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -16,7 +16,9 @@
 //!   circles of confusion, field curves, best focus), all on one ray-bundle
 //!   primitive traced by the batch tracer;
 //! - [`design`]: merit functions over a prescription's variables and their
-//!   optimisation by damped least squares.
+//!   optimisation by damped least squares;
+//! - [`tolerance`]: sensitivity and Monte Carlo tolerancing with
+//!   compensators, reproducible trial by trial.
 //!
 //! Conventions (docs/architecture.md): +z is the optical axis, light travels
 //! toward +z, lengths are millimetres, positions are z from the first
@@ -42,6 +44,7 @@ pub mod model;
 pub mod paraxial;
 pub mod report;
 mod simd;
+pub mod tolerance;
 pub mod trace;
 
 pub use error::{LoadError, OpticsError};

@@ -13,6 +13,7 @@ pub mod glass;
 pub mod layout;
 pub mod raster;
 pub mod spot;
+pub mod tolerance;
 pub mod wave;
 
 use std::path::Path;

@@ -186,6 +186,22 @@ impl Design {
         Ok(Design { start, evaluated, variables, ..self.clone() })
     }
 
+    /// `written` with the merit function's wavelengths.
+    fn with_merit_wavelengths(&self, written: &PrescriptionSpec) -> PrescriptionSpec {
+        let mut evaluated = written.clone();
+        evaluated.wavelengths_nm = self.evaluated.wavelengths_nm.clone();
+        evaluated.wavelength_weights = self.evaluated.wavelength_weights.clone();
+        evaluated.primary_wavelength_nm = self.evaluated.primary_wavelength_nm;
+        evaluated
+    }
+
+    /// The lens of the prescription `written` as this design measures it
+    /// (the merit function's wavelengths), without its variables applied.
+    pub fn measured_lens(&self, written: &PrescriptionSpec) -> Result<Prescription, DesignError> {
+        Prescription::from_spec_with(&self.with_merit_wavelengths(written), &self.catalogs)
+            .map_err(|findings| DesignError::Invalid { what: "the lens".into(), findings })
+    }
+
     /// The variables' starting values.
     pub fn start_values(&self) -> Vec<f64> {
         self.variables.iter().map(|v| v.read(&self.start)).collect()

@@ -70,6 +70,9 @@ pub enum DesignError {
     /// Something else in the design file.
     #[error("design file: {0}")]
     Spec(String),
+    /// Something in a tolerance file.
+    #[error("tolerance file: {0}")]
+    Tolerance(String),
     /// The lens at the given variables is not a valid prescription.
     #[error("{what}: the lens is not valid:\n{}", findings.iter().map(|f| format!("  {f}")).collect::<Vec<_>>().join("\n"))]
     Invalid {

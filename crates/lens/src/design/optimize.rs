@@ -49,7 +49,7 @@ pub fn optimize(design: &Design) -> Result<Optimized, DesignError> {
     let start = design.evaluate(&x_start)?;
     // with no iteration to take, the start is only evaluated
     let warnings = if design.max_iterations > 0 { dependence(design, &x_start, &start)? } else { Vec::new() };
-    let (mut m, mut evaluations) = run(design, &x_start)?;
+    let (mut m, mut evaluations) = refine(design, &x_start)?;
     let mut history: Vec<f64> = m.history.iter().map(|c| c.sqrt()).collect();
     let mut iterations = m.iterations;
     let mut substitutions = Vec::new();
@@ -72,7 +72,7 @@ pub fn optimize(design: &Design) -> Result<Optimized, DesignError> {
         if !substitutions.is_empty() {
             design = design.with_start(replaced, |v| !matches!(v.param, Param::Nd | Param::Vd))?;
             let x = design.start_values();
-            let (m2, e2) = run(&design, &x)?;
+            let (m2, e2) = refine(&design, &x)?;
             history.extend(m2.history.iter().skip(1).map(|c| c.sqrt()));
             iterations += m2.iterations;
             evaluations += e2;
@@ -96,8 +96,8 @@ pub fn optimize(design: &Design) -> Result<Optimized, DesignError> {
     })
 }
 
-/// Damped least squares from `x0` (evaluations counted).
-fn run(design: &Design, x0: &[f64]) -> Result<(Minimum, usize), DesignError> {
+/// Damped least squares on `design` from `x0` (evaluations counted).
+pub fn refine(design: &Design, x0: &[f64]) -> Result<(Minimum, usize), DesignError> {
     let lo: Vec<f64> = design.variables.iter().map(|v| v.lower).collect();
     let hi: Vec<f64> = design.variables.iter().map(|v| v.upper).collect();
     let scale: Vec<f64> = design.variables.iter().zip(x0).map(|(v, &x)| v.scale(x, &design.start)).collect();

@@ -36,6 +36,7 @@ from ._lens import (
     validate_file,
     wavefront,
 )
+from ._tolerance import tolerance
 
 
 
@@ -69,6 +70,7 @@ __all__ = [
     "psf",
     "render",
     "spot",
+    "tolerance",
     "trace",
     "validate_file",
     "wavefront",

@@ -27,6 +27,8 @@ __all__ = [
     "coc",
     "chromatic",
     "render",
+    "_tolerance_share",
+    "_tolerance_summary",
     "STATUS_NAMES",
 ]
 
@@ -173,3 +175,12 @@ def render(
     prescription: Optional[_Path] = None,
     threads: Optional[int] = None,
 ) -> npt.NDArray[np.float32]: ...
+def _tolerance_share(
+    spec: str,
+    seed: int,
+    trials: int,
+    shard: int,
+    shards: int,
+    threads: Optional[int] = None,
+) -> str: ...
+def _tolerance_summary(spec: str, shares: list[str], seconds: float) -> dict[str, Any]: ...

@@ -133,18 +133,7 @@ pub fn run(args: Args) -> CmdResult {
         )?;
     }
     if args.json {
-        print_json(&json!({
-            "digest": share.digest,
-            "seed": share.seed,
-            "criterion": tol.criterion.kind,
-            "fields_deg": tol.criterion.fields_deg,
-            "nominal": share.nominal,
-            "sensitivity": share.sensitivity,
-            "monte_carlo": stats,
-            "tolerances": tol.tolerances.iter().map(|t| t.label()).collect::<Vec<_>>(),
-            "seconds": seconds,
-            "seconds_per_trial": seconds / share.trials.max(1) as f64,
-        }))?;
+        print_json(&lens::report::tolerance(&tol, &share, &stats, seconds))?;
         return Ok(ExitCode::SUCCESS);
     }
     print_text(&tol, &share, &stats, seconds)?;

@@ -12,6 +12,7 @@ mod errors;
 mod glass;
 mod prescription;
 mod render;
+mod tolerance;
 mod trace;
 
 use pyo3::prelude::*;
@@ -34,6 +35,8 @@ fn _lens(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analyses::coc, m)?)?;
     m.add_function(wrap_pyfunction!(analyses::chromatic, m)?)?;
     m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(tolerance::tolerance_share, m)?)?;
+    m.add_function(wrap_pyfunction!(tolerance::tolerance_summary, m)?)?;
     m.add("STATUS_NAMES", trace::STATUS_NAMES.to_vec())?;
     Ok(())
 }

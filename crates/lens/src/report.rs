@@ -205,3 +205,26 @@ pub fn psf(field_deg: f64, plane: ImagePlane, f: &crate::analysis::wave::field_p
         "ensquared_energy": {"half_width_mm": radii, "fraction": f.ensquared},
     })
 }
+
+/// `lens tolerance --json`: the sensitivity table and Monte Carlo
+/// statistics of a whole run (`share` holds every trial), `seconds` its
+/// wall time.
+pub fn tolerance(
+    tol: &crate::tolerance::Tolerancing,
+    share: &crate::tolerance::Share,
+    stats: &crate::tolerance::Statistics,
+    seconds: f64,
+) -> Value {
+    json!({
+        "digest": share.digest,
+        "seed": share.seed,
+        "criterion": tol.criterion.kind,
+        "fields_deg": tol.criterion.fields_deg,
+        "nominal": share.nominal,
+        "sensitivity": share.sensitivity,
+        "monte_carlo": stats,
+        "tolerances": tol.tolerances.iter().map(|t| t.label()).collect::<Vec<_>>(),
+        "seconds": seconds,
+        "seconds_per_trial": seconds / share.trials.max(1) as f64,
+    })
+}

@@ -31,6 +31,10 @@ fn trials_are_reproducible_across_shares_and_threads() {
     let shares: Vec<_> = [3, 1, 2].iter().map(|&i| tol.run(11, 60, [i, 3]).unwrap()).collect();
     let merged = merge(&shares).unwrap();
     assert_eq!(merged.results, whole.results);
+    // through JSON (as shares travel between machines), still to the bit
+    let travelled: Vec<lens::tolerance::Share> =
+        shares.iter().map(|s| serde_json::from_str(&serde_json::to_string(s).unwrap()).unwrap()).collect();
+    assert_eq!(merge(&travelled).unwrap().results, whole.results);
     let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
     let single = one.install(|| tol.run(11, 60, [1, 1]).unwrap());
     assert_eq!(single.results, whole.results);

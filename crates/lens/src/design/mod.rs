@@ -93,3 +93,24 @@ pub enum DesignError {
     #[error("the merit function does not depend on any variable: {0}")]
     NoDependence(String),
 }
+
+/// Reads a JSON file of the design formats (a design or tolerance file) as
+/// `T`, the error naming the file, line and column.
+pub fn read_json<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Result<T, DesignError> {
+    let origin = path.display().to_string();
+    let bytes = crate::io::files::read_bounded(path, crate::io::files::MAX_TEXT_BYTES).map_err(|e| {
+        DesignError::Load(LoadError::Io { path: path.to_path_buf(), source: std::io::Error::other(e.reason()) })
+    })?;
+    let text = String::from_utf8(bytes).map_err(|_| DesignError::Json {
+        origin: origin.clone(),
+        line: 1,
+        column: 1,
+        message: "the file is not UTF-8 text".into(),
+    })?;
+    serde_json::from_str(&text).map_err(|e| DesignError::Json {
+        origin,
+        line: e.line(),
+        column: e.column(),
+        message: crate::io::json::message(&e),
+    })
+}

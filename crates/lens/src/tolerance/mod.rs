@@ -157,25 +157,7 @@ pub struct Worst {
 impl Tolerancing {
     /// Reads a tolerance file (its prescription relative to it).
     pub fn load(path: &Path, extra: Vec<Catalog>) -> Result<Tolerancing, DesignError> {
-        let origin = path.display().to_string();
-        let bytes = crate::io::files::read_bounded(path, crate::io::files::MAX_TEXT_BYTES).map_err(|e| {
-            DesignError::Load(crate::LoadError::Io {
-                path: path.to_path_buf(),
-                source: std::io::Error::other(e.reason()),
-            })
-        })?;
-        let text = String::from_utf8(bytes).map_err(|_| DesignError::Json {
-            origin: origin.clone(),
-            line: 1,
-            column: 1,
-            message: "the file is not UTF-8 text".into(),
-        })?;
-        let t: ToleranceSpec = serde_json::from_str(&text).map_err(|e| DesignError::Json {
-            origin: origin.clone(),
-            line: e.line(),
-            column: e.column(),
-            message: crate::io::json::message(&e),
-        })?;
+        let t: ToleranceSpec = crate::design::read_json(path)?;
         let dir = path.parent().unwrap_or(Path::new("."));
         let (spec, catalogs) = crate::io::load_spec_and_catalogs(&dir.join(&t.prescription), extra)?;
         Tolerancing::new(&t, spec, &catalogs)

@@ -154,3 +154,24 @@ fn bad_tolerances_are_refused() {
     let e = Tolerancing::new(&t, triplet(), Catalogs::shipped()).unwrap_err().to_string();
     assert!(e.contains("criterion: type \"strehl\""), "{e}");
 }
+
+/// An MTF criterion with the back focus compensated ends at an MTF at
+/// least that of the lens at its own film, and of the film of least RMS
+/// spot where least squares starts (through-focus MTF has side lobes).
+#[test]
+fn mtf_refocus_is_no_worse_than_its_starts() {
+    let mut t = shipped();
+    t.tolerances.truncate(1);
+    t.criterion = serde_json::from_str(r#"{"type": "mtf", "fields_deg": [0, 10], "frequency_per_mm": 20}"#).unwrap();
+    let comp = analysis(&t);
+    t.compensators.clear();
+    let fixed = analysis(&t);
+    let lens = comp.perturbed(&[0.08]);
+    let (v, film) = comp.criterion.judge(&lens).unwrap();
+    let (at_own, _) = fixed.criterion.judge(&lens).unwrap();
+    assert!(v >= at_own, "{v} < {at_own}");
+    let mut at = lens.clone();
+    at.surfaces.last_mut().unwrap().thickness = film[0];
+    let (again, _) = fixed.criterion.judge(&at).unwrap();
+    assert!((again - v).abs() < 1e-12, "{again} vs {v}");
+}

@@ -731,5 +731,8 @@ fn tolerance_json_contract_and_shares_merge_to_the_whole_run() {
     let (code, _, err) = lens(&["tolerance", spec, "--shard", "5/4", "-o", dir.join("x.json").to_str().unwrap()]);
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("1 <= I <= N"), "{err}");
+    let (code, _, err) = lens(&["tolerance", spec, "--trials", "1000000000000"]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("give 1 to 100000000"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

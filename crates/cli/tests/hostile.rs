@@ -100,6 +100,14 @@ fn no_output_overwrites_an_input() {
 #[test]
 fn sizes_are_bounded_with_the_limit_named() {
     refused(&["validate", "/dev/zero"], &["MiB"]);
+    refused(&["optimize", "/dev/zero"], &["MiB"]);
+    refused(&["tolerance", "/dev/zero"], &["MiB"]);
+    // a design file that is no JSON, and one whose output is its input
+    refused(&["optimize", "lens-data/cooke-triplet.json"], &["line", "column"]);
+    refused(
+        &["optimize", "lens-data/design/cooke-triplet.design.json", "-o", "lens-data/design/cooke-triplet.design.json"],
+        &["is an input"],
+    );
     let d = scratch("sizes");
     let r = d.join("r.png");
     let md = d.join("r.md");

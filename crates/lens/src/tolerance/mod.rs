@@ -33,6 +33,10 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// The most trials of one run (its results are held in memory, about 40
+/// bytes a trial).
+pub const MAX_TRIALS: u64 = 100_000_000;
+
 /// A tolerance analysis ready to run.
 #[derive(Debug, Clone)]
 pub struct Tolerancing {
@@ -271,6 +275,11 @@ impl Tolerancing {
         let [i, n] = shard;
         if n == 0 || i == 0 || i > n {
             return Err(format!("share {i}/{n}: give I/N with 1 <= I <= N"));
+        }
+        if trials == 0 || trials > MAX_TRIALS {
+            return Err(format!(
+                "{trials} trials: give 1 to {MAX_TRIALS} (a run's results are held in memory; split a larger study into runs of other seeds)"
+            ));
         }
         let nominal = self.nominal_value()?;
         let sensitivity = self.sensitivity()?;

@@ -175,3 +175,16 @@ fn mtf_refocus_is_no_worse_than_its_starts() {
     let (again, _) = fixed.criterion.judge(&at).unwrap();
     assert!((again - v).abs() < 1e-12, "{again} vs {v}");
 }
+
+/// When no trial can be judged the statistics are refused, not NaN.
+#[test]
+fn no_judged_trial_is_an_error_not_nan() {
+    let tol = analysis(&shipped());
+    let mut share = tol.run(1, 3, [1, 1]).unwrap();
+    for r in &mut share.results {
+        r.value = None;
+        r.failure = Some("invalid: surfaces cross".into());
+    }
+    let e = tol.statistics(&[share]).unwrap_err();
+    assert!(e.contains("none of the 3 trials could be judged"), "{e}");
+}

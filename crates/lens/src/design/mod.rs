@@ -39,18 +39,6 @@ pub enum DesignError {
     /// The design file or its prescription could not be read.
     #[error(transparent)]
     Load(#[from] LoadError),
-    /// The design file is not valid JSON of the design format.
-    #[error("{origin}: line {line}, column {column}: {message}")]
-    Json {
-        /// The file.
-        origin: String,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong.
-        message: String,
-    },
     /// A variable that does not exist or cannot be varied.
     #[error("{what}: {why}")]
     Variable {
@@ -101,16 +89,20 @@ pub fn read_json<T: serde::de::DeserializeOwned>(path: &std::path::Path) -> Resu
     let bytes = crate::io::files::read_bounded(path, crate::io::files::MAX_TEXT_BYTES).map_err(|e| {
         DesignError::Load(LoadError::Io { path: path.to_path_buf(), source: std::io::Error::other(e.reason()) })
     })?;
-    let text = String::from_utf8(bytes).map_err(|_| DesignError::Json {
-        origin: origin.clone(),
-        line: 1,
-        column: 1,
-        message: "the file is not UTF-8 text".into(),
+    let text = String::from_utf8(bytes).map_err(|_| {
+        DesignError::Load(LoadError::Json {
+            origin: origin.clone(),
+            line: 1,
+            column: 1,
+            message: "the file is not UTF-8 text".into(),
+        })
     })?;
-    serde_json::from_str(&text).map_err(|e| DesignError::Json {
-        origin,
-        line: e.line(),
-        column: e.column(),
-        message: crate::io::json::message(&e),
+    serde_json::from_str(&text).map_err(|e| {
+        DesignError::Load(LoadError::Json {
+            origin,
+            line: e.line(),
+            column: e.column(),
+            message: crate::io::json::message(&e),
+        })
     })
 }

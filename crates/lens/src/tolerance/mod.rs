@@ -309,6 +309,13 @@ impl Tolerancing {
                 failures.push(format!("trial {}: {}", r.trial, r.failure.clone().unwrap_or_default()));
             }
         }
+        if judged.is_empty() {
+            return Err(format!(
+                "none of the {} trials could be judged ({}): reduce the tolerances",
+                all.trials,
+                failures.join("; ")
+            ));
+        }
         let n = judged.len() as f64;
         let mean = judged.iter().map(|j| j.1).sum::<f64>() / n;
         let std = (judged.iter().map(|j| (j.1 - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();

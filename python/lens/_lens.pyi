@@ -101,6 +101,7 @@ def fan(
     aim: str = "auto",
     film: _Film = None,
     threads: Optional[int] = None,
+    field_x_deg: float = 0.0,
 ) -> dict[str, Any]: ...
 def spot(
     prescription: Prescription,
@@ -111,6 +112,7 @@ def spot(
     aim: str = "auto",
     film: _Film = None,
     threads: Optional[int] = None,
+    field_x_deg: float = 0.0,
 ) -> dict[str, Any]: ...
 def wavefront(
     prescription: Prescription,
@@ -121,6 +123,7 @@ def wavefront(
     grid: Optional[int] = None,
     samples: bool = False,
     threads: Optional[int] = None,
+    field_x_deg: float = 0.0,
 ) -> dict[str, Any]: ...
 def mtf(
     prescription: Prescription,
@@ -131,6 +134,7 @@ def mtf(
     aim: str = "auto",
     film: _Film = None,
     threads: Optional[int] = None,
+    field_x_deg: float = 0.0,
 ) -> dict[str, Any]: ...
 def psf(
     prescription: Prescription,
@@ -144,6 +148,7 @@ def psf(
     aim: str = "auto",
     film: _Film = None,
     threads: Optional[int] = None,
+    field_x_deg: float = 0.0,
 ) -> dict[str, Any]: ...
 def coc(
     prescription: Prescription,

@@ -74,6 +74,25 @@ def test_off_axis_wave_and_polychromatic_mtf():
           "mtf", path, "--frequencies", "10,30", "--field-deg", "14", "--polychromatic")
 
 
+def test_fields_in_x_are_the_cli_flag():
+    # a lens with an element decentred: x fields differ from y fields there
+    import json, os, tempfile
+    spec = json.load(open("lens-data/cooke-triplet.json"))
+    spec["elements"] = [{"surfaces": [3, 4], "decenter_mm": [0.1, -0.05], "tilt_deg": [0.2, 0.1]}]
+    with tempfile.TemporaryDirectory() as d:
+        path = os.path.join(d, "moved.json")
+        json.dump(spec, open(path, "w"))
+        p = lens.load(path)
+        args = ("--field-x-deg", "6", "--field-deg", "-4")
+        got = check(lambda: lens.fan(p, field_deg=-4.0, field_x_deg=6.0, points=7), "fan", path, "--points", "7", *args)
+        assert got["field_x_deg"] == 6.0
+        check(lambda: lens.spot(p, field_deg=-4.0, field_x_deg=6.0), "spot", path, *args)
+        check(lambda: lens.wavefront(p, field_deg=-4.0, field_x_deg=6.0), "wavefront", path, *args)
+        check(lambda: lens.mtf(p, [20.0], field_deg=-4.0, field_x_deg=6.0), "mtf", path, "--frequencies", "20", *args)
+        with pytest.raises(ValueError, match="field_x_deg=95"):
+            lens.spot(p, field_x_deg=95.0)
+
+
 def test_with_f_number_is_the_cli_flag():
     path = "lens-data/double-gauss-50mm.json"
     p = lens.load(path).with_f_number(4.0)

@@ -115,14 +115,59 @@ impl ObjectArgs {
     }
 }
 
-/// One field angle.
+/// One field: its angle in y, and in x.
 #[derive(clap::Args, Debug, Clone)]
 pub struct FieldArgs {
     /// Field angle in degrees: the chief ray's angle in object space (object
     /// at infinity, or at the prescription's design object distance when it
-    /// has one).
+    /// has one), in the y-z plane.
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, default_value_t = 0.0)]
     pub field_deg: f64,
+    /// The field's x component, degrees: the chief ray's angle in the x-z
+    /// plane (Zemax's and optiland's component angles: the direction is
+    /// (tan x, tan y, 1) normalised). For lenses with decentred or tilted
+    /// surfaces, which are not symmetric about the y-z plane.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, default_value_t = 0.0)]
+    pub field_x_deg: f64,
+}
+
+impl FieldArgs {
+    /// Both angles checked (each above -90 and below 90 degrees).
+    pub fn check(&self) -> Result<(), String> {
+        check_fields("--field-deg", &[self.field_deg])?;
+        check_fields("--field-x-deg", &[self.field_x_deg])
+    }
+
+    /// The field for `p` ([`lens::analysis::Field::at_angles`]).
+    pub fn field(&self, p: &lens::Prescription, first: &lens::paraxial::FirstOrder) -> lens::analysis::Field {
+        lens::analysis::Field::at_angles(p, first, self.field_x_deg, self.field_deg)
+    }
+
+    /// The field in words for headings: `10 deg`, or `x 2 deg, y 10 deg`.
+    pub fn describe(&self) -> String {
+        if self.field_x_deg == 0.0 {
+            format!("{} deg", lens::error::Fixed(self.field_deg))
+        } else {
+            format!("x {} deg, y {} deg", lens::error::Fixed(self.field_x_deg), lens::error::Fixed(self.field_deg))
+        }
+    }
+
+    /// Refuses an x component where `what` takes fields along y only.
+    pub fn y_only(&self, what: &str) -> Result<(), String> {
+        if self.field_x_deg == 0.0 {
+            return Ok(());
+        }
+        Err(format!(
+            "--field-x-deg {}: {what} takes fields along y only; drop --field-x-deg (a lens symmetric about its axis images an x field as the y field of the same angle, turned)",
+            lens::error::exact(self.field_x_deg)
+        ))
+    }
+
+    /// The JSON report `v` with `field_x_deg` added when the field has an
+    /// x component ([`lens::report::with_field_x`]).
+    pub fn report(&self, v: serde_json::Value) -> serde_json::Value {
+        lens::report::with_field_x(v, self.field_x_deg)
+    }
 }
 
 /// `--aim paraxial|real|auto`.
@@ -279,12 +324,15 @@ pub struct FieldPlotArgs {
 }
 
 impl FieldPlotArgs {
-    /// The fields to plot: --plot-fields (each checked), or the analysed
-    /// field alone.
-    pub fn fields(&self, field_deg: f64) -> Result<std::vec::Vec<f64>, String> {
+    /// The fields to plot, `(x, y)` degrees: --plot-fields (each checked,
+    /// along y), or the analysed field alone.
+    pub fn fields(&self, field: &FieldArgs) -> Result<std::vec::Vec<(f64, f64)>, String> {
         match &self.plot_fields {
-            Some(f) => check_fields("--plot-fields", f).map(|_| f.clone()),
-            None => Ok(vec![field_deg]),
+            Some(f) => {
+                field.y_only("--plot-fields")?;
+                check_fields("--plot-fields", f).map(|_| f.iter().map(|&y| (0.0, y)).collect())
+            }
+            None => Ok(vec![(field.field_x_deg, field.field_deg)]),
         }
     }
 }

@@ -43,6 +43,7 @@ pub fn run(a: Args) -> CmdResult {
             format!("--max-field-deg {max_field}: give a largest field angle above 0 and below 90 degrees").into()
         );
     }
+    a.field.y_only("lens chromatic (lateral colour against field)")?;
     let c = chromatic(&p, a.field.field_deg, max_field, a.aim.aim())?;
     if let Some(out) = &a.plot.plot {
         plot::save(&plot::chromatic::chromatic_chart(&c, &a.lens.name(&p)), out)?;

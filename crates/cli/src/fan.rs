@@ -37,13 +37,14 @@ pub fn run(a: Args) -> CmdResult {
         return Err(format!("--points {}: a fan needs at least 2 points", a.points).into());
     }
     let first = FirstOrder::of(&p)?;
-    let fan_at = |deg: f64| -> Result<_, lens::OpticsError> {
-        let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, deg), a.aim.aim())?;
+    a.field.check()?;
+    let fan_at = |(x, y): (f64, f64)| -> Result<_, lens::OpticsError> {
+        let launcher = Launcher::with_first(&p, &first, Field::at_angles(&p, &first, x, y), a.aim.aim())?;
         fan_traced(&p, &traced, &launcher, a.points, plane)
     };
-    let fan = fan_at(a.field.field_deg)?;
+    let fan = fan_at((a.field.field_x_deg, a.field.field_deg))?;
     if let Some(out) = &a.plot.plot {
-        let fields = a.plot.fields(a.field.field_deg)?;
+        let fields = a.plot.fields(&a.field)?;
         let fans = fields.into_iter().map(fan_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::fan::fan_chart(&fans, p.name()), out)?;
     }
@@ -52,8 +53,8 @@ pub fn run(a: Args) -> CmdResult {
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "ray fan at {} deg on {} (chief ray at x {:.6}, y {:.6} mm)",
-        Fixed(a.field.field_deg),
+        "ray fan at {} on {} (chief ray at x {:.6}, y {:.6} mm)",
+        a.field.describe(),
         crate::args::describe_plane(plane, fan.image_z),
         Fixed(fan.chief[0]),
         Fixed(fan.chief[1])

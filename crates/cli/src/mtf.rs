@@ -74,12 +74,14 @@ struct Setup<'a> {
 }
 
 impl Setup<'_> {
-    fn launcher(&self, deg: f64) -> Result<Launcher, lens::OpticsError> {
-        Launcher::with_first(self.p, &self.first, Field::at_angle(self.p, &self.first, deg), self.aim)
+    /// The launcher of the field at component angles `x`, `y` (degrees).
+    fn launcher(&self, x: f64, y: f64) -> Result<Launcher, lens::OpticsError> {
+        Launcher::with_first(self.p, &self.first, Field::at_angles(self.p, &self.first, x, y), self.aim)
     }
 
-    fn mtf(&self, deg: f64, plane: ImagePlane, freqs: &[f64]) -> Result<Mtf, lens::OpticsError> {
-        self.mtf_with(&self.launcher(deg)?, plane, freqs)
+    /// The MTF of the field the command was asked for.
+    fn mtf(&self, field: &FieldArgs, plane: ImagePlane, freqs: &[f64]) -> Result<Mtf, lens::OpticsError> {
+        self.mtf_with(&self.launcher(field.field_x_deg, field.field_deg)?, plane, freqs)
     }
 
     /// The MTF of `launcher`'s field, monochromatic or polychromatic.
@@ -107,7 +109,7 @@ pub fn run(args: Args) -> CmdResult {
     let plane = args.plane.plane()?;
     let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
     let field_deg = args.field.field_deg;
-    crate::args::check_fields("--field-deg", &[field_deg])?;
+    args.field.check()?;
     if args.frequencies.is_empty() {
         return Err("--frequencies: give at least one frequency in cycles/mm (e.g. 10,20,40)".into());
     }
@@ -118,7 +120,7 @@ pub fn run(args: Args) -> CmdResult {
     let s = Setup { p: &p, traced: &traced, first: FirstOrder::of(&p)?, aim: args.aim.aim(), waves };
     let name = args.lens.name(&p);
     // the on-axis cutoff, 1 / (lambda N_w) from the real marginal ray
-    let axis = s.launcher(0.0)?;
+    let axis = s.launcher(0.0, 0.0)?;
     let axis_cutoff = cutoffs(&p, &traced, &axis, plane.z(&p, &axis)?)?.0;
     if args.vs_field {
         return vs_field(&args, &s, plane, &name);
@@ -126,12 +128,12 @@ pub fn run(args: Args) -> CmdResult {
     if let Some(range) = args.through_focus {
         return through_focus(&args, &s, plane, range, &name);
     }
-    let m = s.mtf(field_deg, plane, &args.frequencies)?;
+    let m = s.mtf(&args.field, plane, &args.frequencies)?;
     let geometric = |freqs: &[f64], limit: (&[f64], &[f64])| -> Result<Option<TandS>, lens::OpticsError> {
         if !args.geometric {
             return Ok(None);
         }
-        let launcher = s.launcher(field_deg)?;
+        let launcher = s.launcher(args.field.field_x_deg, field_deg)?;
         let pattern = lens::analysis::pattern::Pattern::Gauss;
         let spot = match &s.waves {
             Some(w) => lens::analysis::spot::spot_polychromatic(s.p, &launcher, pattern, 48, plane, w)?,
@@ -148,7 +150,7 @@ pub fn run(args: Args) -> CmdResult {
     if let Some(out) = &args.plot.plot {
         let top = m.cutoff_tangential_per_mm.min(m.cutoff_sagittal_per_mm);
         let freqs: Vec<f64> = (1..60).map(|k| top * k as f64 / 60.0).collect();
-        let curve = s.mtf(field_deg, plane, &freqs)?;
+        let curve = s.mtf(&args.field, plane, &freqs)?;
         let pts = |v: &[f64]| std::iter::once((0.0, 1.0)).chain(freqs.iter().copied().zip(v.iter().copied())).collect();
         let mut curves = vec![
             MtfCurve { label: "tangential".into(), points: pts(&curve.tangential), colour: 0, dashed: false },
@@ -166,7 +168,7 @@ pub fn run(args: Args) -> CmdResult {
             curves.push(MtfCurve { label: "geometric T".into(), points: pts(&gt), colour: 2, dashed: false });
             curves.push(MtfCurve { label: "geometric S".into(), points: pts(&gs), colour: 3, dashed: true });
         }
-        let title = format!("MTF: {name}, {} deg, {}", lens::error::Fixed(field_deg), s.light());
+        let title = format!("MTF: {name}, {}, {}", args.field.describe(), s.light());
         let panel = format!(
             "cutoff T {:.0} c/mm, S {:.0} c/mm; on axis 1/(lambda N_w) = {:.0} c/mm",
             m.cutoff_tangential_per_mm, m.cutoff_sagittal_per_mm, axis_cutoff
@@ -179,12 +181,19 @@ pub fn run(args: Args) -> CmdResult {
             sagittal: g,
             scaled_by_diffraction_limit: args.scale_by_diffraction,
         });
-        print_json(&lens::report::mtf(field_deg, plane, &m, s.waves.as_deref(), axis_cutoff, geometric))?;
+        print_json(&args.field.report(lens::report::mtf(
+            field_deg,
+            plane,
+            &m,
+            s.waves.as_deref(),
+            axis_cutoff,
+            geometric,
+        )))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "diffraction MTF at {} deg, {}, on {}",
-        lens::error::Fixed(field_deg),
+        "diffraction MTF at {}, {}, on {}",
+        args.field.describe(),
         s.light(),
         crate::args::describe_plane(plane, m.image_z)
     );
@@ -270,12 +279,13 @@ impl Sweep {
 
 /// `--vs-field`: T and S at each frequency against image height.
 fn vs_field(args: &Args, s: &Setup, plane: ImagePlane, name: &str) -> CmdResult {
+    args.field.y_only("--vs-field")?;
     let fields = fields(args, s.p)?;
     let freqs = &args.frequencies;
     let mut heights = Vec::new();
     let mut sweep = Sweep::new(freqs);
     for &deg in &fields {
-        let launcher = s.launcher(deg)?;
+        let launcher = s.launcher(0.0, deg)?;
         let probe = lens::analysis::wave::opd::Probe::new(s.p, s.traced, &launcher, plane)?;
         heights.push(probe.chief_image().y);
         sweep.push(&s.mtf_with(&launcher, plane, freqs)?);
@@ -311,7 +321,7 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
     if !(range.is_finite() && range > 0.0) {
         return Err(format!("--through-focus {range}: give the focus range in mm, above 0").into());
     }
-    let launcher = s.launcher(args.field.field_deg)?;
+    let launcher = s.launcher(args.field.field_x_deg, args.field.field_deg)?;
     let z0 = plane.z(s.p, &launcher)?;
     let freqs = &args.frequencies;
     let shifts: Vec<f64> = (0..=20).map(|k| -range + 2.0 * range * k as f64 / 20.0).collect();
@@ -328,12 +338,11 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
     }
     if let Some(out) = &args.plot.plot {
         let curves = sweep.curves(freqs, &shifts);
-        let title =
-            format!("Through-focus MTF: {name}, {} deg, {}", lens::error::Fixed(args.field.field_deg), s.light());
+        let title = format!("Through-focus MTF: {name}, {}, {}", args.field.describe(), s.light());
         plot::save(&mtf_chart(&title, "tangential solid, sagittal dashed", "focus shift (mm)", &curves), out)?;
     }
     if args.out.json {
-        print_json(&json!({
+        print_json(&args.field.report(json!({
             "field_deg": args.field.field_deg,
             "wavelength_nm": s.traced.wavelength_nm(),
             "image_z": z0,
@@ -341,15 +350,10 @@ fn through_focus(args: &Args, s: &Setup, plane: ImagePlane, range: f64, name: &s
             "frequencies_per_mm": freqs,
             "tangential": sweep.tan,
             "sagittal": sweep.sag,
-        }))?;
+        })))?;
         return Ok(ExitCode::SUCCESS);
     }
-    outln!(
-        "through-focus MTF at {} deg, {}, about z = {:.6} mm",
-        lens::error::Fixed(args.field.field_deg),
-        s.light(),
-        z0
-    );
+    outln!("through-focus MTF at {}, {}, about z = {:.6} mm", args.field.describe(), s.light(), z0);
     outln!("  {:>10}  {}", "shift mm", Sweep::head(freqs));
     for (i, dz) in shifts.iter().enumerate() {
         outln!("  {:>+10.4}  {}", dz, sweep.row(i));

@@ -224,19 +224,20 @@ fn write_report(
     pics: &[PathBuf; 4],
 ) -> Result<(), Box<dyn std::error::Error>> {
     let d = &o.design;
-    let mut fields: Vec<f64> = Vec::new();
+    // (x, y) degrees
+    let mut fields: Vec<(f64, f64)> = Vec::new();
     for op in &d.operands {
-        if let Measure::RmsSpot { field_deg, .. }
-        | Measure::RmsWavefront { field_deg, .. }
-        | Measure::Mtf { field_deg, .. } = op.measure
+        if let Measure::RmsSpot { field_deg, field_x_deg, .. }
+        | Measure::RmsWavefront { field_deg, field_x_deg, .. }
+        | Measure::Mtf { field_deg, field_x_deg, .. } = op.measure
         {
-            if !fields.contains(&field_deg) {
-                fields.push(field_deg);
+            if !fields.contains(&(field_x_deg, field_deg)) {
+                fields.push((field_x_deg, field_deg));
             }
         }
     }
     if fields.is_empty() {
-        fields.push(0.0);
+        fields.push((0.0, 0.0));
     }
     let name = o.start.lens.name().to_string();
     for (lens, spot_pic, mtf_pic, when) in
@@ -298,15 +299,16 @@ fn write_report(
     Ok(())
 }
 
-fn spot_at(lens: &Prescription, waves: &[(f64, f64)], field_deg: f64) -> Result<SpotDiagram, lens::OpticsError> {
+/// The spot at the field of component angles `(x, y)`, degrees.
+fn spot_at(lens: &Prescription, waves: &[(f64, f64)], (x, y): (f64, f64)) -> Result<SpotDiagram, lens::OpticsError> {
     let first = FirstOrder::of(lens)?;
-    let l = Launcher::with_first(lens, &first, Field::at_angle(lens, &first, field_deg), Aim::Auto)?;
+    let l = Launcher::with_first(lens, &first, Field::at_angles(lens, &first, x, y), Aim::Auto)?;
     spot_polychromatic(lens, &l, Pattern::Gauss, 12, ImagePlane::ImageSurface, waves)
 }
 
 /// MTF against frequency at each field (primary wavelength), to half the
 /// on-axis cutoff or 100 cycles/mm, whichever is lower.
-fn mtf_picture(lens: &Prescription, fields: &[f64], title: &str) -> Result<String, lens::OpticsError> {
+fn mtf_picture(lens: &Prescription, fields: &[(f64, f64)], title: &str) -> Result<String, lens::OpticsError> {
     let first = FirstOrder::of(lens)?;
     let object = lens::paraxial::ObjectDistance::from_mm(lens.object_distance_mm().unwrap_or(f64::INFINITY))?;
     let wfn = lens::paraxial::imaging(lens, &first, object)?.working_f_number;
@@ -314,19 +316,18 @@ fn mtf_picture(lens: &Prescription, fields: &[f64], title: &str) -> Result<Strin
     let top = (0.5 * cutoff).min(100.0);
     let freqs: Vec<f64> = (1..=40).map(|k| top * k as f64 / 40.0).collect();
     let mut curves = Vec::new();
-    for (i, &f) in fields.iter().enumerate() {
-        let l = Launcher::with_first(lens, &first, Field::at_angle(lens, &first, f), Aim::Auto)?;
+    for (i, &(x, f)) in fields.iter().enumerate() {
+        let l = Launcher::with_first(lens, &first, Field::at_angles(lens, &first, x, f), Aim::Auto)?;
+        let name = match x {
+            0.0 => format!("{} deg", num(f)),
+            _ => format!("x {}, y {} deg", num(x), num(f)),
+        };
         let m = mtf(lens, lens, &l, ImagePlane::ImageSurface, &freqs)?;
         let pts = |v: &[f64]| {
             std::iter::once((0.0, 1.0)).chain(freqs.iter().copied().zip(v.iter().copied())).collect::<Vec<_>>()
         };
-        curves.push(MtfCurve {
-            label: format!("{} deg T", num(f)),
-            points: pts(&m.tangential),
-            colour: i,
-            dashed: false,
-        });
-        curves.push(MtfCurve { label: format!("{} deg S", num(f)), points: pts(&m.sagittal), colour: i, dashed: true });
+        curves.push(MtfCurve { label: format!("{name} T"), points: pts(&m.tangential), colour: i, dashed: false });
+        curves.push(MtfCurve { label: format!("{name} S"), points: pts(&m.sagittal), colour: i, dashed: true });
     }
     Ok(mtf_chart(
         &format!("MTF: {title}"),

@@ -5,7 +5,7 @@ use crate::args::{AimArgs, FieldArgs, GridArgs, JsonArgs, LensArgs, PlaneArgs, P
 use crate::{print_json, CmdResult};
 use lens::analysis::wave::field_psf::{field_psf, PsfOptions};
 use lens::analysis::wave::psf::{Psf, PsfMethod};
-use lens::analysis::{Field, Launcher};
+use lens::analysis::Launcher;
 use lens::paraxial::FirstOrder;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -74,8 +74,8 @@ pub fn run(args: Args) -> CmdResult {
     let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
     let first = FirstOrder::of(&p)?;
     let field_deg = args.field.field_deg;
-    crate::args::check_fields("--field-deg", &[field_deg])?;
-    let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), args.aim.aim())?;
+    args.field.check()?;
+    let launcher = Launcher::with_first(&p, &first, args.field.field(&p, &first), args.aim.aim())?;
     if args.polychromatic && matches!(args.method, MethodArg::Huygens) {
         return Err("--polychromatic sums FFT (Fraunhofer) images on one grid; leave out --method huygens".into());
     }
@@ -105,7 +105,7 @@ pub fn run(args: Args) -> CmdResult {
         } else {
             format!("{} nm, Strehl {:.4}", w.wavelength_nm, s.strehl)
         };
-        let title = format!("PSF: {}, {} deg, {light}", args.lens.name(&p), lens::error::Fixed(field_deg));
+        let title = format!("PSF: {}, {}, {light}", args.lens.name(&p), args.field.describe());
         let curve: Vec<(f64, f64)> =
             std::iter::once((0.0, 0.0)).chain(radii.iter().copied().zip(ee.iter().copied())).collect();
         let geometric: Vec<(f64, f64)> =
@@ -117,13 +117,13 @@ pub fn run(args: Args) -> CmdResult {
         write_exr(psf, path)?;
     }
     if args.out.json {
-        print_json(&lens::report::psf(field_deg, plane, &f))?;
+        print_json(&args.field.report(lens::report::psf(field_deg, plane, &f)))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "{} PSF at {} deg, {} nm, on {}: {} x {} pixels of {:.4e} x {:.4e} mm, pupil grid {}",
+        "{} PSF at {}, {} nm, on {}: {} x {} pixels of {:.4e} x {:.4e} mm, pupil grid {}",
         psf.method.name(),
-        lens::error::Fixed(field_deg),
+        args.field.describe(),
         w.wavelength_nm,
         crate::args::describe_plane(plane, w.image_z),
         psf.size,

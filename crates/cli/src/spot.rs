@@ -63,27 +63,28 @@ pub fn run(args: Args) -> CmdResult {
     if args.wavelength.wavelength_nm.is_none() {
         args.lens.catalogs.report(&p, p.wavelengths_nm())?;
     }
-    let spot_at = |deg: f64| -> Result<_, lens::OpticsError> {
-        let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, deg), args.aim.aim())?;
+    args.field.check()?;
+    let spot_at = |(x, y): (f64, f64)| -> Result<_, lens::OpticsError> {
+        let launcher = Launcher::with_first(&p, &first, Field::at_angles(&p, &first, x, y), args.aim.aim())?;
         match args.wavelength.wavelength_nm {
             Some(_) => spot_traced(&p, &traced, &launcher, pattern, args.n, plane),
             None => spot_polychromatic(&p, &launcher, pattern, args.n, plane, &waves),
         }
     };
     let field_deg = args.field.field_deg;
-    let s = spot_at(field_deg)?;
+    let s = spot_at((args.field.field_x_deg, field_deg))?;
     if let Some(out) = &args.plot.plot {
-        let fields = args.plot.fields(field_deg)?;
+        let fields = args.plot.fields(&args.field)?;
         let spots = fields.into_iter().map(spot_at).collect::<Result<Vec<_>, _>>()?;
         plot::save(&plot::spot::spot_chart(&spots, p.name()), out)?;
     }
     if args.out.json {
-        print_json(&lens::report::spot(field_deg, &s))?;
+        print_json(&args.field.report(lens::report::spot(field_deg, &s)))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "spot at {} deg on {}, {} pattern: {} rays, {} vignetted",
-        lens::error::Fixed(field_deg),
+        "spot at {} on {}, {} pattern: {} rays, {} vignetted",
+        args.field.describe(),
         crate::args::describe_plane(plane, s.image_z),
         pattern.name(),
         s.rays,

@@ -5,7 +5,7 @@ use crate::args::{AimArgs, FieldArgs, GridArgs, JsonArgs, LensArgs, PlaneArgs, P
 use crate::{print_json, CmdResult};
 use lens::analysis::wave::stats;
 use lens::analysis::wave::zernike::{fit, ZernikeKind, TERMS};
-use lens::analysis::{Field, Launcher};
+use lens::analysis::Launcher;
 use lens::paraxial::FirstOrder;
 use std::process::ExitCode;
 
@@ -40,8 +40,8 @@ pub fn run(args: Args) -> CmdResult {
     let (p, traced) = args.lens.load_at(args.wavelength.wavelength_nm)?;
     let first = FirstOrder::of(&p)?;
     let field_deg = args.field.field_deg;
-    crate::args::check_fields("--field-deg", &[field_deg])?;
-    let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), args.aim.aim())?;
+    args.field.check()?;
+    let launcher = Launcher::with_first(&p, &first, args.field.field(&p, &first), args.aim.aim())?;
     let w = args.grid.wavefront(&p, &traced, &launcher, plane)?;
     let s = stats(&w);
     let fringe = fit(&w, ZernikeKind::Fringe, TERMS);
@@ -52,12 +52,12 @@ pub fn run(args: Args) -> CmdResult {
     let exit = w.exit_pupil;
     if args.out.json {
         let fits = lens::report::Fits { fringe: fringe.as_ref(), standard: standard.as_ref() };
-        print_json(&lens::report::wavefront(field_deg, plane, &w, &s, fits, args.samples))?;
+        print_json(&args.field.report(lens::report::wavefront(field_deg, plane, &w, &s, fits, args.samples)))?;
         return Ok(ExitCode::SUCCESS);
     }
     outln!(
-        "wavefront at {} deg, {} nm, on {}: {} x {} pupil grid, {} rays, {} vignetted",
-        lens::error::Fixed(field_deg),
+        "wavefront at {}, {} nm, on {}: {} x {} pupil grid, {} rays, {} vignetted",
+        args.field.describe(),
         w.wavelength_nm,
         crate::args::describe_plane(plane, w.image_z),
         w.grid.n,

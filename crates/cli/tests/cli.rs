@@ -736,3 +736,44 @@ fn tolerance_json_contract_and_shares_merge_to_the_whole_run() {
     assert!(err.contains("give 1 to 100000000"), "{err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn fields_in_x_are_taken_by_the_field_analyses_and_named() {
+    // an x field of a symmetric lens lands on +x as the y field lands on +y
+    let dg = "lens-data/double-gauss-50mm.json";
+    let run = |args: &[&str]| {
+        let (code, out, err) = lens(args);
+        assert_eq!(code, 0, "{args:?}: {err}");
+        json(&out)
+    };
+    let x = run(&["spot", dg, "--field-x-deg", "10", "--json"]);
+    let y = run(&["spot", dg, "--field-deg", "10", "--json"]);
+    assert_eq!((x["field_x_deg"].as_f64(), x["field_deg"].as_f64()), (Some(10.0), Some(0.0)));
+    assert!(y.get("field_x_deg").is_none(), "a y field's report keeps its keys");
+    assert!((x["chief"][0].as_f64().unwrap() - y["chief"][1].as_f64().unwrap()).abs() < 1e-12);
+    assert!((x["rms_radius"].as_f64().unwrap() - y["rms_radius"].as_f64().unwrap()).abs() < 1e-12);
+    let fan = run(&["fan", dg, "--field-x-deg", "-4", "--field-deg", "3", "--json", "--points", "5"]);
+    assert_eq!((fan["field_x_deg"].as_f64(), fan["field_deg"].as_f64()), (Some(-4.0), Some(3.0)));
+    assert!(fan["chief"][0].as_f64().unwrap() < -3.0 && fan["chief"][1].as_f64().unwrap() > 2.0, "{}", fan["chief"]);
+    for cmd in [
+        &["wavefront", dg, "--field-x-deg", "5", "--json"][..],
+        &["mtf", dg, "--field-x-deg", "5", "--json"],
+        &["psf", dg, "--field-x-deg", "5", "--json"],
+    ] {
+        assert_eq!(run(cmd)["field_x_deg"].as_f64(), Some(5.0), "{cmd:?}");
+    }
+    let (code, out, _) = lens(&["spot", dg, "--field-x-deg", "2", "--field-deg", "3"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("spot at x 2 deg, y 3 deg"), "{out}");
+    // where only y fields are defined the flag is refused by name
+    for (args, what) in [
+        (&["chromatic", dg, "--field-x-deg", "5"][..], "lens chromatic"),
+        (&["mtf", dg, "--field-x-deg", "5", "--vs-field"], "--vs-field"),
+        (&["fan", dg, "--field-x-deg", "5", "--plot", "/tmp/never.svg", "--plot-fields", "0,5"], "--plot-fields"),
+        (&["spot", dg, "--field-x-deg", "95"], "--field-x-deg"),
+    ] {
+        let (code, _, err) = lens(args);
+        assert_eq!(code, 1, "{args:?}");
+        assert!(err.contains(what) && err.contains("--field-x-deg"), "{args:?}: {err}");
+    }
+}

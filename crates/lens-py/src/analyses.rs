@@ -2,7 +2,10 @@
 //! (`lens::report`), computed by the same library calls in the same order
 //! so that the numbers agree to the bit: `fan`, `spot`, `wavefront`,
 //! `mtf`, `psf`, `coc`, `chromatic`.
-//! Arguments follow the flags: `field_deg`, `wavelength_nm` (None: the
+//! Arguments follow the flags: `field_deg`, `field_x_deg` (the x
+//! component, for lenses with decentred or tilted surfaces; the last
+//! keyword of `fan`, `spot`, `wavefront`, `mtf` and `psf`; reports gain
+//! `field_x_deg` where it is not 0), `wavelength_nm` (None: the
 //! prescription's, or for `spot` every wavelength with its weight), `aim`
 //! ("auto", "paraxial", "real"), `film` ("image": the prescription's
 //! image surface; "paraxial"; or a distance in mm behind the last vertex),
@@ -54,14 +57,14 @@ fn off_gil<T: Send>(py: Python<'_>, threads: Option<usize>, f: impl FnOnce() -> 
     Ok(py.detach(|| pool.install(f)))
 }
 
-/// Refuses a field angle that is not one.
-fn check_field(field_deg: f64) -> PyResult<()> {
-    if field_deg.is_finite() && field_deg.abs() < 90.0 {
+/// Refuses a field angle that is not one (`name` its argument).
+fn check_field(name: &str, deg: f64) -> PyResult<()> {
+    if deg.is_finite() && deg.abs() < 90.0 {
         Ok(())
     } else {
         Err(PyValueError::new_err(format!(
-            "field_deg={}: give an angle above -90 and below 90 degrees",
-            lens::error::exact(field_deg)
+            "{name}={}: give an angle above -90 and below 90 degrees",
+            lens::error::exact(deg)
         )))
     }
 }
@@ -77,13 +80,23 @@ struct Setup {
 }
 
 impl Setup {
-    fn new(py: Python<'_>, pr: &Prescription, field_deg: f64, wavelength_nm: Option<f64>, aim: &str) -> PyResult<Self> {
-        check_field(field_deg)?;
+    /// The setup at the field of component angles `field` (x, y degrees).
+    fn new(
+        py: Python<'_>,
+        pr: &Prescription,
+        field: (f64, f64),
+        wavelength_nm: Option<f64>,
+        aim: &str,
+    ) -> PyResult<Self> {
+        let (field_x_deg, field_deg) = field;
+        check_field("field_deg", field_deg)?;
+        check_field("field_x_deg", field_x_deg)?;
         let aim = aim_of(aim)?;
         let traced = pr.at(py, wavelength_nm)?;
         let p = pr.inner.clone();
         let first = FirstOrder::of(&p).py()?;
-        let launcher = Launcher::with_first(&p, &first, Field::at_angle(&p, &first, field_deg), aim).py()?;
+        let launcher =
+            Launcher::with_first(&p, &first, Field::at_angles(&p, &first, field_x_deg, field_deg), aim).py()?;
         Ok(Setup { p, traced, launcher, aim })
     }
 }
@@ -91,7 +104,7 @@ impl Setup {
 /// Tangential and sagittal ray fans at `field_deg`, `points` pupil points
 /// each (the keys of `lens fan --json`).
 #[pyfunction]
-#[pyo3(signature = (prescription, field_deg=0.0, points=21, wavelength_nm=None, aim="auto", film=None, threads=None))]
+#[pyo3(signature = (prescription, field_deg=0.0, points=21, wavelength_nm=None, aim="auto", film=None, threads=None, field_x_deg=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn fan<'py>(
     py: Python<'py>,
@@ -102,12 +115,13 @@ pub fn fan<'py>(
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    field_x_deg: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     if points < 2 {
         return Err(PyValueError::new_err(format!("points={points}: a fan needs at least 2 points")));
     }
     let plane = plane_of(film)?;
-    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let s = Setup::new(py, prescription, (field_x_deg, field_deg), wavelength_nm, aim)?;
     let fan =
         off_gil(py, threads, || lens::analysis::fan::fan_traced(&s.p, &s.traced, &s.launcher, points, plane))?.py()?;
     to_py(py, &serde_json::to_value(&fan).map_err(|e| OpticsError::new_err(e.to_string()))?)
@@ -118,7 +132,7 @@ pub fn fan<'py>(
 /// `wavelength_nm`, or every wavelength of the prescription with its
 /// weight where None.
 #[pyfunction]
-#[pyo3(signature = (prescription, field_deg=0.0, pattern="gauss", n=12, wavelength_nm=None, aim="auto", film=None, threads=None))]
+#[pyo3(signature = (prescription, field_deg=0.0, pattern="gauss", n=12, wavelength_nm=None, aim="auto", film=None, threads=None, field_x_deg=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn spot<'py>(
     py: Python<'py>,
@@ -130,6 +144,7 @@ pub fn spot<'py>(
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    field_x_deg: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::pattern::Pattern;
     let pattern = match pattern.to_ascii_lowercase().as_str() {
@@ -144,7 +159,7 @@ pub fn spot<'py>(
         }
     };
     let plane = plane_of(film)?;
-    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let s = Setup::new(py, prescription, (field_x_deg, field_deg), wavelength_nm, aim)?;
     let waves: Vec<(f64, f64)> = s.p.wavelengths_nm().iter().copied().zip(s.p.wavelength_weights()).collect();
     if wavelength_nm.is_none() {
         warn_range(py, &s.p, s.p.wavelengths_nm())?;
@@ -154,7 +169,7 @@ pub fn spot<'py>(
         None => lens::analysis::spot::spot_polychromatic(&s.p, &s.launcher, pattern, n, plane, &waves),
     })?
     .py()?;
-    to_py(py, &lens::report::spot(field_deg, &spot))
+    to_py(py, &lens::report::with_field_x(lens::report::spot(field_deg, &spot), field_x_deg))
 }
 
 /// The wavefront error at `field_deg` (the keys of `lens wavefront
@@ -162,7 +177,7 @@ pub fn spot<'py>(
 /// both 37-term Zernike fits; on a `grid` x `grid` pupil grid (None: the
 /// default, finer where the wavefront needs it); with `samples`, the map.
 #[pyfunction]
-#[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, aim="auto", film=None, grid=None, samples=false, threads=None))]
+#[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, aim="auto", film=None, grid=None, samples=false, threads=None, field_x_deg=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn wavefront<'py>(
     py: Python<'py>,
@@ -174,10 +189,11 @@ pub fn wavefront<'py>(
     grid: Option<usize>,
     samples: bool,
     threads: Option<usize>,
+    field_x_deg: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::wave::zernike::{fit, ZernikeKind, TERMS};
     let plane = plane_of(film)?;
-    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let s = Setup::new(py, prescription, (field_x_deg, field_deg), wavelength_nm, aim)?;
     let report = off_gil(py, threads, || -> Result<serde_json::Value, lens::OpticsError> {
         let w = match grid {
             Some(n) => lens::analysis::wave::wavefront(&s.p, &s.traced, &s.launcher, n, plane)?,
@@ -187,7 +203,7 @@ pub fn wavefront<'py>(
         let fringe = fit(&w, ZernikeKind::Fringe, TERMS);
         let standard = fit(&w, ZernikeKind::Standard, TERMS);
         let fits = lens::report::Fits { fringe: fringe.as_ref(), standard: standard.as_ref() };
-        Ok(lens::report::wavefront(field_deg, plane, &w, &st, fits, samples))
+        Ok(lens::report::with_field_x(lens::report::wavefront(field_deg, plane, &w, &st, fits, samples), field_x_deg))
     })?
     .py()?;
     to_py(py, &report)
@@ -197,7 +213,7 @@ pub fn wavefront<'py>(
 /// keys of `lens mtf --json`), monochromatic at `wavelength_nm` or, with
 /// `polychromatic`, over the prescription's wavelengths and weights.
 #[pyfunction]
-#[pyo3(signature = (prescription, frequencies, field_deg=0.0, wavelength_nm=None, polychromatic=false, aim="auto", film=None, threads=None))]
+#[pyo3(signature = (prescription, frequencies, field_deg=0.0, wavelength_nm=None, polychromatic=false, aim="auto", film=None, threads=None, field_x_deg=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn mtf<'py>(
     py: Python<'py>,
@@ -209,13 +225,14 @@ pub fn mtf<'py>(
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    field_x_deg: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::wave::mtf::{cutoffs, mtf, polychromatic_mtf};
     if frequencies.is_empty() {
         return Err(PyValueError::new_err("frequencies: give at least one frequency in cycles/mm"));
     }
     let plane = plane_of(film)?;
-    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let s = Setup::new(py, prescription, (field_x_deg, field_deg), wavelength_nm, aim)?;
     let waves: Option<Vec<(f64, f64)>> =
         polychromatic.then(|| s.p.wavelengths_nm().iter().copied().zip(s.p.wavelength_weights()).collect());
     if polychromatic {
@@ -229,7 +246,10 @@ pub fn mtf<'py>(
             Some(w) => polychromatic_mtf(&s.p, &s.launcher, plane, &frequencies, w)?,
             None => mtf(&s.p, &s.traced, &s.launcher, plane, &frequencies)?,
         };
-        Ok(lens::report::mtf(field_deg, plane, &m, waves.as_deref(), axis_cutoff, None))
+        Ok(lens::report::with_field_x(
+            lens::report::mtf(field_deg, plane, &m, waves.as_deref(), axis_cutoff, None),
+            field_x_deg,
+        ))
     })?
     .py()?;
     to_py(py, &report)
@@ -291,7 +311,7 @@ pub fn chromatic<'py>(
 /// `polychromatic` the prescription's wavelengths summed (FFT).
 #[pyfunction]
 #[pyo3(signature = (prescription, field_deg=0.0, wavelength_nm=None, method="fft", pad=4, pixels=64, grid=None,
-    polychromatic=false, aim="auto", film=None, threads=None))]
+    polychromatic=false, aim="auto", film=None, threads=None, field_x_deg=0.0))]
 #[allow(clippy::too_many_arguments)]
 pub fn psf<'py>(
     py: Python<'py>,
@@ -306,6 +326,7 @@ pub fn psf<'py>(
     aim: &str,
     film: Option<&Bound<'py, PyAny>>,
     threads: Option<usize>,
+    field_x_deg: f64,
 ) -> PyResult<Bound<'py, PyAny>> {
     use lens::analysis::wave::field_psf::{field_psf, PsfOptions};
     use lens::analysis::wave::psf::PsfMethod;
@@ -315,13 +336,13 @@ pub fn psf<'py>(
         other => return Err(PyValueError::new_err(format!("method={other:?}: give \"fft\" or \"huygens\""))),
     };
     let plane = plane_of(film)?;
-    let s = Setup::new(py, prescription, field_deg, wavelength_nm, aim)?;
+    let s = Setup::new(py, prescription, (field_x_deg, field_deg), wavelength_nm, aim)?;
     if polychromatic {
         warn_range(py, &s.p, s.p.wavelengths_nm())?;
     }
     let options = PsfOptions { method, pad, pixels, grid, polychromatic };
     let f = off_gil(py, threads, || field_psf(&s.p, &s.traced, &s.launcher, plane, &options))?.py()?;
-    let report = to_py(py, &lens::report::psf(field_deg, plane, &f))?;
+    let report = to_py(py, &lens::report::with_field_x(lens::report::psf(field_deg, plane, &f), field_x_deg))?;
     let n = f.psf.size;
     let image = numpy::ndarray::Array2::from_shape_vec((n, n), f.psf.intensity)
         .map_err(|e| OpticsError::new_err(e.to_string()))?;

@@ -291,6 +291,15 @@ pub enum OpticsError {
         /// The analysis, in words.
         analysis: &'static str,
     },
+    /// A field with an x component was given where only fields along y
+    /// are defined.
+    #[error("{what} is defined for fields along y only, and {field} has an x component: give the field in y (a lens symmetric about its axis images an x field as the y field of the same angle, turned)")]
+    YFieldOnly {
+        /// What is y-only, in words.
+        what: &'static str,
+        /// The field, in words.
+        field: String,
+    },
     /// No real ray of the on-axis bundle reaches the film.
     #[error("no real ray reaches the image: {why}")]
     NoRealRays {

@@ -50,6 +50,18 @@ pub fn validation(file: &str, valid: bool, error: Option<String>, findings: &[Fi
     })
 }
 
+/// A field report `v` with `field_x_deg` added when the field has an x
+/// component (`x_deg` not 0; a y field's report is unchanged): how the
+/// reports of fans, spots, wavefronts, MTFs and PSFs name an x field.
+pub fn with_field_x(mut v: Value, x_deg: f64) -> Value {
+    if x_deg != 0.0 {
+        if let Some(o) = v.as_object_mut() {
+            o.insert("field_x_deg".into(), x_deg.into());
+        }
+    }
+    v
+}
+
 /// `lens spot --json` of a spot diagram at `field_deg`.
 pub fn spot(field_deg: f64, s: &SpotDiagram) -> Value {
     json!({
@@ -215,7 +227,8 @@ pub fn tolerance(
     stats: &crate::tolerance::Statistics,
     seconds: f64,
 ) -> Value {
-    json!({
+    let x = &tol.criterion.fields_x_deg;
+    let mut v = json!({
         "digest": share.digest,
         "seed": share.seed,
         "criterion": tol.criterion.kind,
@@ -226,5 +239,10 @@ pub fn tolerance(
         "tolerances": tol.tolerances.iter().map(|t| t.label()).collect::<Vec<_>>(),
         "seconds": seconds,
         "seconds_per_trial": seconds / share.trials.max(1) as f64,
-    })
+    });
+    // fields with x components: each field's x, in the order of fields_deg
+    if x.iter().any(|&x| x != 0.0) {
+        v["fields_x_deg"] = json!(x);
+    }
+    v
 }

@@ -266,3 +266,34 @@ fn crossing_lenses_are_stepped_around() {
     lens::Prescription::from_spec(&o.end.spec).unwrap();
     assert!(o.end.spec.surfaces[1].thickness >= 0.1);
 }
+
+/// Operands at fields with an x component: on a lens symmetric about its
+/// axis, an x field's RMS spot and wavefront are the y field's (the lens
+/// mirrored in x = y), its ray_x the y field's ray_y; on a lens with an
+/// element decentred in x they are not; an x angle of 90 is refused.
+#[test]
+fn operands_take_fields_in_x() {
+    let d = spec(
+        r#"{"prescription": "-", "variables": [{"surface": 1, "param": "radius"}],
+            "operands": [{"type": "rms_spot", "field_deg": 10}, {"type": "rms_spot", "field_x_deg": 10},
+                         {"type": "rms_wavefront", "field_deg": 10}, {"type": "rms_wavefront", "field_x_deg": 10},
+                         {"type": "ray_y", "field_deg": 10, "py": 0.5, "target": 0}, {"type": "ray_x", "field_x_deg": 10, "px": 0.5, "target": 0}]}"#,
+    );
+    let values = |p: PrescriptionSpec| {
+        let design = Design::new(&d, p, Catalogs::shipped().clone()).unwrap();
+        design.evaluate(&design.start_values()).unwrap().values
+    };
+    let v = values(data("cooke-triplet.json"));
+    for k in [0, 2, 4] {
+        assert!((v[k] - v[k + 1]).abs() <= 1e-12 * v[k].abs(), "operand {}: {} vs {}", k + 1, v[k], v[k + 1]);
+    }
+    let mut moved = data("cooke-triplet.json");
+    moved.elements =
+        Some(vec![lens::model::ElementSpec { surfaces: [3, 4], decenter_mm: Some([0.2, 0.0]), tilt_deg: None }]);
+    let v = values(moved);
+    assert!((v[0] - v[1]).abs() > 1e-4 * v[0], "a decentre in x tells x fields from y: {} vs {}", v[0], v[1]);
+    let mut bad = d.clone();
+    bad.operands[1].field_x_deg = Some(90.0);
+    let e = refused(&bad);
+    assert!(e.contains("operand 2 (rms_spot)") && e.contains("field_x_deg 90"), "{e}");
+}

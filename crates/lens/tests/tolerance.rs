@@ -188,3 +188,29 @@ fn no_judged_trial_is_an_error_not_nan() {
     let e = tol.statistics(&[share]).unwrap_err();
     assert!(e.contains("none of the 3 trials could be judged"), "{e}");
 }
+
+/// A criterion's fields may have x components (`fields_x_deg`, in the
+/// order of `fields_deg`): on the symmetric nominal an x field judges as
+/// the y field of the same angle; a decentre in x then tells them apart;
+/// lists of different lengths are refused.
+#[test]
+fn criterion_fields_take_x_components() {
+    let judge = |json: &str, lens: &PrescriptionSpec| {
+        let mut t = shipped();
+        t.criterion = serde_json::from_str(json).unwrap();
+        analysis(&t).criterion.judge(lens).unwrap().0
+    };
+    let y = r#"{"type": "rms_spot", "fields_deg": [10]}"#;
+    let x = r#"{"type": "rms_spot", "fields_deg": [0], "fields_x_deg": [10]}"#;
+    let (vy, vx) = (judge(y, &triplet()), judge(x, &triplet()));
+    assert!((vy - vx).abs() <= 1e-12 * vy, "{vy} vs {vx}");
+    let mut moved = triplet();
+    moved.elements =
+        Some(vec![lens::model::ElementSpec { surfaces: [3, 4], decenter_mm: Some([0.2, 0.0]), tilt_deg: None }]);
+    let (vy, vx) = (judge(y, &moved), judge(x, &moved));
+    assert!((vy - vx).abs() > 1e-3 * vy, "{vy} vs {vx}");
+    let mut t = shipped();
+    t.criterion = serde_json::from_str(r#"{"type": "rms_spot", "fields_deg": [0, 10], "fields_x_deg": [5]}"#).unwrap();
+    let e = Tolerancing::new(&t, triplet(), Catalogs::shipped()).unwrap_err().to_string();
+    assert!(e.contains("fields_x_deg has 1 angles and fields_deg 2"), "{e}");
+}

@@ -9,7 +9,7 @@ pub fn fan_chart(fans: &[RayFan], name: &str) -> String {
     let mut panels = Vec::new();
     for (k, f) in fans.iter().enumerate() {
         let color = PALETTE[k % PALETTE.len()];
-        let field = f.field_deg.map_or("finite object".to_string(), |d| format!("{d} deg"));
+        let field = crate::field_label(f.field_x_deg, f.field_deg);
         let t: Vec<Option<(f64, f64)>> = f.tangential.iter().map(|p| p.ey.map(|e| (p.py, e * 1e3))).collect();
         let s: Vec<Option<(f64, f64)>> = f.sagittal.iter().map(|p| p.ex.map(|e| (p.px, e * 1e3))).collect();
         panels.push(Panel {

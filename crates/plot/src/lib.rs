@@ -37,6 +37,16 @@ pub enum PlotError {
     Raster(String),
 }
 
+/// A field's name in a panel title: `10 deg`, `x 2 deg, y 10 deg`, or
+/// `finite object` (the analyses' `field_x_deg` and `field_deg`).
+pub(crate) fn field_label(x_deg: Option<f64>, y_deg: Option<f64>) -> String {
+    match (x_deg, y_deg) {
+        (Some(x), Some(y)) => format!("x {x} deg, y {y} deg"),
+        (_, Some(y)) => format!("{y} deg"),
+        _ => "finite object".to_string(),
+    }
+}
+
 /// Writes an SVG document to `path`: as is for `.svg`, rasterised for `.png`.
 pub fn save(svg: &str, path: &Path) -> Result<(), PlotError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);

@@ -46,7 +46,7 @@ pub fn spot_chart(spots: &[SpotDiagram], name: &str) -> String {
                 };
                 series.push(Series::new(label, pts, &colour, Style::Dots(1.4)));
             }
-            let field = s.field_deg.map_or("finite object".to_string(), |d| format!("{d} deg"));
+            let field = crate::field_label(s.field_x_deg, s.field_deg);
             Panel {
                 title: format!("{field}: RMS {:.2} µm, GEO {:.2} µm", s.rms_radius * 1e3, s.geo_radius * 1e3),
                 x_label: "x - chief (µm)".into(),

@@ -282,9 +282,26 @@ pub fn distortion(p: &Prescription, field: Field, aim: Aim) -> Result<f64, Optic
     let paraxial = match field {
         Field::Angle(deg) => first.efl * deg.to_radians().tan(),
         Field::Height { height, .. } => crate::paraxial::imaging(p, first, field.object())?.magnification * height,
+        Field::Angles { x_deg, y_deg } => {
+            // radial: the chief ray's point along the paraxial image point's direction
+            let hp = first.efl * DVec2::new(x_deg.to_radians().tan(), y_deg.to_radians().tan());
+            return radial_distortion(chief(&launcher, &tracer)?, hp);
+        }
+        Field::Point { x, y, .. } => {
+            let m = crate::paraxial::imaging(p, first, field.object())?.magnification;
+            return radial_distortion(chief(&launcher, &tracer)?, m * DVec2::new(x, y));
+        }
     };
     let h = chief(&launcher, &tracer)?[1];
     Ok(if paraxial == 0.0 { 0.0 } else { 100.0 * (h - paraxial) / paraxial })
+}
+
+/// Distortion, percent, of a chief ray landing at `h` (mm) whose paraxial
+/// image point is `hp`: the chief point's component along `hp` against
+/// `|hp|` (a y field's signed height ratio, in any direction).
+fn radial_distortion(h: [f64; 2], hp: DVec2) -> Result<f64, OpticsError> {
+    let r2 = hp.length_squared();
+    Ok(if r2 == 0.0 { 0.0 } else { 100.0 * (DVec2::from(h).dot(hp) - r2) / r2 })
 }
 
 /// The chief ray's point on the tracer's image plane.
@@ -425,8 +442,10 @@ fn gathered(launcher: &Launcher, tracer: &Tracer) -> Result<f64, OpticsError> {
     let cell = (hi - lo) / n as f64;
     let ray = |k: usize| launcher.ray_through(lo + cell * DVec2::new((k % n) as f64 + 0.5, (k / n) as f64 + 0.5));
     let weight = |r: &Ray| match field {
-        Field::Angle(_) => 1.0,
-        Field::Height { object_distance, .. } => r.direction.z.powi(4) / (z_ep + object_distance).powi(2),
+        Field::Angle(_) | Field::Angles { .. } => 1.0,
+        Field::Height { object_distance, .. } | Field::Point { object_distance, .. } => {
+            r.direction.z.powi(4) / (z_ep + object_distance).powi(2)
+        }
     };
     // which rays pass, traced in batches: the grid's coarse nodes, then the
     // blocks the light's edge crosses
@@ -448,12 +467,15 @@ fn gathered(launcher: &Launcher, tracer: &Tracer) -> Result<f64, OpticsError> {
     let passing = (0..n * n).filter(|&k| pass[k]);
     let sum: f64 = match field {
         // (each ray's weight 1: the count, without forming the rays again)
-        Field::Angle(_) => passing.count() as f64,
-        Field::Height { .. } => passing.filter_map(|k| ray(k).map(|r| weight(&r))).sum(),
+        Field::Angle(_) | Field::Angles { .. } => passing.count() as f64,
+        Field::Height { .. } | Field::Point { .. } => passing.filter_map(|k| ray(k).map(|r| weight(&r))).sum(),
     };
     let cos = match field {
         Field::Angle(deg) => deg.to_radians().cos(),
-        Field::Height { .. } => 1.0,
+        Field::Angles { x_deg, y_deg } => {
+            1.0 / DVec3::new(x_deg.to_radians().tan(), y_deg.to_radians().tan(), 1.0).length()
+        }
+        Field::Height { .. } | Field::Point { .. } => 1.0,
     };
     Ok(sum * cell.x * cell.y * cos)
 }

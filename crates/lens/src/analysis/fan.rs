@@ -39,8 +39,12 @@ pub struct SagittalPoint {
 /// A ray fan at one field.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct RayFan {
-    /// Field angle, degrees (object at infinity), or `None` for a finite object.
+    /// Field angle (y), degrees (object at infinity), or `None` for a finite object.
     pub field_deg: Option<f64>,
+    /// The field's x angle, degrees, for a field with an x component at
+    /// infinity ([`Field::Angles`]); `None` (and not written) otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub field_x_deg: Option<f64>,
     /// Which plane the fans are on: `"image_surface"` (the prescription's
     /// own, its last thickness), `"paraxial"` or `"film"` (a distance given).
     pub image_plane: &'static str,
@@ -146,7 +150,7 @@ pub fn fan_traced(
     let coords = fan_coordinates(n);
     // the design's vignetting factors at this field move the fans' rays
     // (not the chief ray) into the pupil that passes
-    let vig = p.vignetting_at(launcher.field_angle_deg());
+    let vig = launcher.vignetting(p)?;
     let mut points = vec![(0.0, 0.0)];
     for &c in &coords {
         points.push(vig.apply(0.0, c));
@@ -170,12 +174,10 @@ pub fn fan_traced(
             None => SagittalPoint { px: c, x: None, y: None, ex: None },
         });
     }
-    let field_deg = match field {
-        Field::Angle(d) => Some(d),
-        Field::Height { .. } => None,
-    };
+    let (field_x_deg, field_deg) = field.reported_angles();
     Ok(RayFan {
         field_deg,
+        field_x_deg,
         image_plane: plane.name(),
         image_z,
         chief,

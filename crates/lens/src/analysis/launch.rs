@@ -8,6 +8,13 @@ use crate::trace::Tracer;
 use glam::{DVec2, DVec3};
 
 /// Where the light comes from.
+///
+/// [`Field::Angle`] and [`Field::Height`] are fields along y (the
+/// meridional plane of a co-axial lens); [`Field::Angles`] and
+/// [`Field::Point`] add an x component (a tilted or decentred lens is not
+/// symmetric about the y-z plane). [`Field::angles`] and [`Field::point`]
+/// build either, the y-only kind when x is zero, so a y field traces the
+/// same bits whichever way it was made.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Field {
     /// Object at infinity, light arriving along (0, sin θ, cos θ): the image
@@ -21,9 +28,52 @@ pub enum Field {
         /// Object height, mm.
         height: f64,
     },
+    /// Object at infinity, a field in x and y: light arriving along
+    /// (tan x, tan y, 1) normalised (the component angles of Zemax and
+    /// optiland: `x_deg` is the angle of the ray's projection on the x-z
+    /// plane to the axis, `y_deg` on the y-z plane). Degrees, each
+    /// strictly between -90 and 90.
+    Angles {
+        /// Angle in the x-z plane, degrees (+: light travelling toward +x).
+        x_deg: f64,
+        /// Angle in the y-z plane, degrees (+: light travelling toward +y).
+        y_deg: f64,
+    },
+    /// An object point at (x, y) mm on a plane `object_distance` mm in
+    /// front of the first vertex.
+    Point {
+        /// mm in front of the first vertex (> 0).
+        object_distance: f64,
+        /// Object x, mm.
+        x: f64,
+        /// Object y, mm.
+        y: f64,
+    },
 }
 
 impl Field {
+    /// The field of component angles `x_deg`, `y_deg` (degrees) at
+    /// infinity: [`Field::Angle`] when `x_deg` is 0, [`Field::Angles`]
+    /// otherwise.
+    pub fn angles(x_deg: f64, y_deg: f64) -> Field {
+        if x_deg == 0.0 {
+            Field::Angle(y_deg)
+        } else {
+            Field::Angles { x_deg, y_deg }
+        }
+    }
+
+    /// The object point (x, y) mm on the plane `object_distance` mm in
+    /// front of the first vertex: [`Field::Height`] when `x` is 0,
+    /// [`Field::Point`] otherwise.
+    pub fn point(object_distance: f64, x: f64, y: f64) -> Field {
+        if x == 0.0 {
+            Field::Height { object_distance, height: y }
+        } else {
+            Field::Point { object_distance, x, y }
+        }
+    }
+
     /// The field of chief-ray angle `deg` (degrees) for `p` as designed:
     /// [`Field::Angle`] for an object at infinity; for a prescription with
     /// a finite design object distance d (`object_distance_mm`), the object
@@ -46,22 +96,80 @@ impl Field {
         }
     }
 
-    /// The chief-ray angle of this field, degrees, the entrance pupil at
-    /// `z_ep`: the angle itself, or for an object point the angle of its
-    /// chief ray to the paraxial entrance pupil's centre (the inverse of
-    /// [`Field::at_angle`]).
+    /// [`Field::at_angle`] with an x component: component angles `x_deg`
+    /// and `y_deg` (degrees, as [`Field::Angles`]) at infinity, or for a
+    /// finite design object the point at `-(d + z_EP) (tan x, tan y)`.
+    /// The y-only field of [`Field::at_angle`] when `x_deg` is 0.
+    pub fn at_angles(p: &Prescription, first: &FirstOrder, x_deg: f64, y_deg: f64) -> Field {
+        if x_deg == 0.0 {
+            return Field::at_angle(p, first, y_deg);
+        }
+        let ok = |a: f64| a.is_finite() && a.abs() < 90.0;
+        match p.object_distance_mm() {
+            Some(d) if d.is_finite() && d > 0.0 && ok(x_deg) && ok(y_deg) => {
+                let s = -(d + first.entrance_pupil.z);
+                Field::Point { object_distance: d, x: s * x_deg.to_radians().tan(), y: s * y_deg.to_radians().tan() }
+            }
+            _ => Field::Angles { x_deg, y_deg },
+        }
+    }
+
+    /// The chief-ray angle of this field in the y-z plane, degrees, the
+    /// entrance pupil at `z_ep`: the angle itself, or for an object point
+    /// the angle of its chief ray to the paraxial entrance pupil's centre
+    /// (the inverse of [`Field::at_angle`]).
     pub fn angle_deg(&self, z_ep: f64) -> f64 {
+        self.angles_deg(z_ep)[1]
+    }
+
+    /// The chief ray's component angles `[x, y]`, degrees, the entrance
+    /// pupil at `z_ep` (the inverse of [`Field::at_angles`]; x is 0 for a
+    /// y field).
+    pub fn angles_deg(&self, z_ep: f64) -> [f64; 2] {
+        let of_point = |d: f64, h: f64| (-h / (d + z_ep)).atan().to_degrees();
         match *self {
-            Field::Angle(deg) => deg,
-            Field::Height { object_distance, height } => (-height / (object_distance + z_ep)).atan().to_degrees(),
+            Field::Angle(deg) => [0.0, deg],
+            Field::Angles { x_deg, y_deg } => [x_deg, y_deg],
+            Field::Height { object_distance, height } => [0.0, of_point(object_distance, height)],
+            Field::Point { object_distance, x, y } => [of_point(object_distance, x), of_point(object_distance, y)],
+        }
+    }
+
+    /// The field's angles as analyses report them: `(x, y)` degrees for an
+    /// object at infinity (x `None` for a y field), both `None` for an
+    /// object point.
+    pub fn reported_angles(&self) -> (Option<f64>, Option<f64>) {
+        match *self {
+            Field::Angle(d) => (None, Some(d)),
+            Field::Angles { x_deg, y_deg } => (Some(x_deg), Some(y_deg)),
+            Field::Height { .. } | Field::Point { .. } => (None, None),
+        }
+    }
+
+    /// Whether the field has an x component.
+    pub fn has_x(&self) -> bool {
+        matches!(self, Field::Angles { .. } | Field::Point { .. })
+    }
+
+    /// The field `s` of the way from the axis to this one (angles' tangents
+    /// and object heights scaled by `s`; for `s` in 0..=1).
+    fn scaled(&self, s: f64) -> Field {
+        let scale_angle = |a: f64| if s == 1.0 { a } else { (a.to_radians().tan() * s).atan().to_degrees() };
+        match *self {
+            Field::Angle(d) => Field::Angle(d * s),
+            Field::Angles { x_deg, y_deg } => Field::Angles { x_deg: scale_angle(x_deg), y_deg: scale_angle(y_deg) },
+            Field::Height { object_distance, height } => Field::Height { object_distance, height: height * s },
+            Field::Point { object_distance, x, y } => Field::Point { object_distance, x: x * s, y: y * s },
         }
     }
 
     /// The object distance this field implies.
     pub fn object(&self) -> ObjectDistance {
         match *self {
-            Field::Angle(_) => ObjectDistance::Infinity,
-            Field::Height { object_distance, .. } => ObjectDistance::Finite(object_distance),
+            Field::Angle(_) | Field::Angles { .. } => ObjectDistance::Infinity,
+            Field::Height { object_distance, .. } | Field::Point { object_distance, .. } => {
+                ObjectDistance::Finite(object_distance)
+            }
         }
     }
 
@@ -69,8 +177,12 @@ impl Field {
     pub fn describe(&self) -> String {
         match *self {
             Field::Angle(d) => format!("field {d} deg"),
+            Field::Angles { x_deg, y_deg } => format!("field x {x_deg} deg, y {y_deg} deg"),
             Field::Height { object_distance, height } => {
                 format!("object height {height} mm at {object_distance} mm")
+            }
+            Field::Point { object_distance, x, y } => {
+                format!("object point x {x} mm, y {y} mm at {object_distance} mm")
             }
         }
     }
@@ -131,9 +243,14 @@ struct Beam {
 
 impl Beam {
     fn of(field: Field, z_ep: f64, z_start: f64) -> Option<Beam> {
-        let Field::Angle(deg) = field else { return None };
-        let t = deg.to_radians();
-        let d = DVec3::new(0.0, t.sin(), t.cos());
+        let d = match field {
+            Field::Angle(deg) => {
+                let t = deg.to_radians();
+                DVec3::new(0.0, t.sin(), t.cos())
+            }
+            Field::Angles { x_deg, y_deg } => DVec3::new(x_deg.to_radians().tan(), y_deg.to_radians().tan(), 1.0),
+            Field::Height { .. } | Field::Point { .. } => return None,
+        };
         Some(Beam { unit: d.try_normalize(), back: d * ((z_ep - z_start) / d.z) })
     }
 }
@@ -229,6 +346,21 @@ impl Launcher {
         self.field.angle_deg(self.first.entrance_pupil.z)
     }
 
+    /// The prescription's vignetting factors for this field
+    /// ([`Prescription::vignetting_at`] at its angle). The factors belong to
+    /// design fields along y: a field with an x component is refused when
+    /// `p` has any.
+    pub fn vignetting(&self, p: &Prescription) -> Result<crate::model::VignettingFactors, OpticsError> {
+        let v = p.vignetting_at(self.field_angle_deg());
+        if self.field.has_x() && p.vignetting_factors().iter().any(|v| !v.is_none()) {
+            return Err(OpticsError::YFieldOnly {
+                what: "the prescription's vignetting factors",
+                field: self.field.describe(),
+            });
+        }
+        Ok(v)
+    }
+
     /// First-order data of the prescription.
     pub fn first_order(&self) -> &FirstOrder {
         &self.first
@@ -243,20 +375,22 @@ impl Launcher {
     fn ray_through_at(&self, field: Field, e: DVec2) -> Option<Ray> {
         let z_ep = self.first.entrance_pupil.z;
         let target = DVec3::new(e.x, e.y, z_ep);
+        let object = |object_distance: f64, x: f64, y: f64| {
+            let o = DVec3::new(x, y, -object_distance);
+            Ray::new(o, target - o)
+        };
         match field {
-            Field::Angle(deg) => {
+            Field::Angle(_) | Field::Angles { .. } => {
                 // the launcher's own field: the beam made once (same bits)
                 let beam = match self.beam {
                     Some(b) if field == self.field => b,
-                    _ => Beam::of(Field::Angle(deg), z_ep, self.z_start)?,
+                    _ => Beam::of(field, z_ep, self.z_start)?,
                 };
                 let origin = target - beam.back;
                 origin.is_finite().then_some(Ray { origin, direction: beam.unit? })
             }
-            Field::Height { object_distance, height } => {
-                let o = DVec3::new(0.0, height, -object_distance);
-                Ray::new(o, target - o)
-            }
+            Field::Height { object_distance, height } => object(object_distance, 0.0, height),
+            Field::Point { object_distance, x, y } => object(object_distance, x, y),
         }
     }
 
@@ -351,11 +485,7 @@ impl Launcher {
         let steps = 64;
         let mut e = DVec2::ZERO;
         for k in 1..=steps {
-            let s = k as f64 / steps as f64;
-            let field = match self.field {
-                Field::Angle(d) => Field::Angle(d * s),
-                Field::Height { object_distance, height } => Field::Height { object_distance, height: height * s },
-            };
+            let field = self.field.scaled(k as f64 / steps as f64);
             e = self.newton(field, DVec2::ZERO, e)?;
         }
         Ok(e)
@@ -526,7 +656,8 @@ impl Launcher {
         // about eps times its distance: no aim can do better
         let floor = match field {
             Field::Height { object_distance, height } => 8.0 * f64::EPSILON * object_distance.hypot(height),
-            Field::Angle(_) => 0.0,
+            Field::Point { object_distance, x, y } => 8.0 * f64::EPSILON * object_distance.hypot(x.hypot(y)),
+            Field::Angle(_) | Field::Angles { .. } => 0.0,
         };
         ((1e-12 * scale.max(1.0)).max(floor), 1e-7 * scale)
     }
@@ -594,26 +725,37 @@ fn newton_step(f: DVec2, fx: DVec2, fy: DVec2, h: f64) -> Option<DVec2> {
     Some(DVec2::new(-(j2.y * f.x - j2.x * f.y) / det, -(-j1.y * f.x + j1.x * f.y) / det))
 }
 
-/// Checks a field: an angle strictly inside (-90, 90) degrees, or a finite
-/// object height at a positive object distance.
+/// Checks a field: angles strictly inside (-90, 90) degrees, or a finite
+/// object point at a positive object distance.
 fn check_field(field: Field) -> Result<(), OpticsError> {
-    match field {
-        Field::Angle(d) if !(d.is_finite() && d.abs() < 90.0) => Err(OpticsError::BadInput {
-            name: "field angle",
-            value: d,
-            expected: "an angle in degrees strictly between -90 and 90",
-        }),
-        Field::Height { object_distance, height } => {
-            ObjectDistance::from_mm(object_distance)?;
-            if !height.is_finite() {
-                return Err(OpticsError::BadInput {
-                    name: "object height",
-                    value: height,
-                    expected: "a finite height in mm",
-                });
-            }
+    let angle = |name: &'static str, d: f64| {
+        if d.is_finite() && d.abs() < 90.0 {
             Ok(())
+        } else {
+            Err(OpticsError::BadInput { name, value: d, expected: "an angle in degrees strictly between -90 and 90" })
         }
-        _ => Ok(()),
+    };
+    let height = |name: &'static str, h: f64| {
+        if h.is_finite() {
+            Ok(())
+        } else {
+            Err(OpticsError::BadInput { name, value: h, expected: "a finite height in mm" })
+        }
+    };
+    match field {
+        Field::Angle(d) => angle("field angle", d),
+        Field::Angles { x_deg, y_deg } => {
+            angle("x field angle", x_deg)?;
+            angle("y field angle", y_deg)
+        }
+        Field::Height { object_distance, height: h } => {
+            ObjectDistance::from_mm(object_distance)?;
+            height("object height", h)
+        }
+        Field::Point { object_distance, x, y } => {
+            ObjectDistance::from_mm(object_distance)?;
+            height("object x", x)?;
+            height("object y", y)
+        }
     }
 }

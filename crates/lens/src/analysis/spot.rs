@@ -21,8 +21,12 @@ pub const MAX_RAYS: usize = 50_000_000;
 /// A spot diagram at one field. Lengths in mm, on the image plane.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SpotDiagram {
-    /// Field angle, degrees, or `None` for a finite object.
+    /// Field angle (y), degrees, or `None` for a finite object.
     pub field_deg: Option<f64>,
+    /// The field's x angle, degrees, for a field with an x component at
+    /// infinity ([`Field::Angles`]); `None` (and not written) otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub field_x_deg: Option<f64>,
     /// Which plane the spot is on: `"image_surface"` (the prescription's
     /// own, its last thickness), `"paraxial"` or `"film"` (a distance given).
     pub image_plane: &'static str,
@@ -237,7 +241,7 @@ pub fn spot_traced(
     let mut error = Ok(());
     // the design's vignetting factors at this field: the pattern fills the
     // pupil that passes (the chief ray stays)
-    let vig = p.vignetting_at(launcher.field_angle_deg());
+    let vig = launcher.vignetting(p)?;
     for_each(pattern, n, |x, y, w| {
         let (x, y) = vig.apply(x, y);
         group.push((x, y, w));
@@ -286,11 +290,10 @@ fn assemble(
     let (pp, ps, ss) = st.moments;
     let best_focus_shift = if ss > 0.0 { -ps / ss } else { 0.0 };
     let dz = best_focus_shift;
+    let (field_x_deg, field_deg) = field.reported_angles();
     Ok(SpotDiagram {
-        field_deg: match field {
-            Field::Angle(d) => Some(d),
-            Field::Height { .. } => None,
-        },
+        field_deg,
+        field_x_deg,
         image_plane: plane.name(),
         image_z,
         rays: hits.len(),

@@ -36,8 +36,10 @@ pub enum Measure {
     /// the merit function's wavelengths with their weights (or one), Gauss
     /// rings as `lens spot --n`.
     RmsSpot {
-        /// Field angle, degrees.
+        /// Field angle, degrees (y; [`crate::analysis::Field::at_angles`]).
         field_deg: f64,
+        /// The field's x component, degrees (0: a y field).
+        field_x_deg: f64,
         /// Gauss rings.
         rings: usize,
         /// One wavelength instead of the merit's, nm.
@@ -47,16 +49,20 @@ pub enum Measure {
     /// waves, at the primary (or the given) wavelength, on the default
     /// pupil grid (`lens wavefront`).
     RmsWavefront {
-        /// Field angle, degrees.
+        /// Field angle, degrees (y; [`crate::analysis::Field::at_angles`]).
         field_deg: f64,
+        /// The field's x component, degrees (0: a y field).
+        field_x_deg: f64,
         /// The wavelength, nm (default the primary).
         wavelength_nm: Option<f64>,
     },
     /// Diffraction MTF at one frequency at the primary (or the given)
     /// wavelength (`lens mtf`).
     Mtf {
-        /// Field angle, degrees.
+        /// Field angle, degrees (y; [`crate::analysis::Field::at_angles`]).
         field_deg: f64,
+        /// The field's x component, degrees (0: a y field).
+        field_x_deg: f64,
         /// Cycles/mm.
         frequency_per_mm: f64,
         /// Which direction.
@@ -66,13 +72,17 @@ pub enum Measure {
     },
     /// Distortion, percent (`lens field`).
     Distortion {
-        /// Field angle, degrees.
+        /// Field angle, degrees (y; [`crate::analysis::Field::at_angles`]).
         field_deg: f64,
+        /// The field's x component, degrees (0: a y field).
+        field_x_deg: f64,
     },
     /// x of a real ray on the image surface, mm.
     RayX {
-        /// Field angle, degrees.
+        /// Field angle, degrees (y; [`crate::analysis::Field::at_angles`]).
         field_deg: f64,
+        /// The field's x component, degrees (0: a y field).
+        field_x_deg: f64,
         /// Normalised pupil x.
         px: f64,
         /// Normalised pupil y.
@@ -82,8 +92,10 @@ pub enum Measure {
     },
     /// y of a real ray on the image surface, mm.
     RayY {
-        /// Field angle, degrees.
+        /// Field angle, degrees (y; [`crate::analysis::Field::at_angles`]).
         field_deg: f64,
+        /// The field's x component, degrees (0: a y field).
+        field_x_deg: f64,
         /// Normalised pupil x.
         px: f64,
         /// Normalised pupil y.
@@ -179,10 +191,10 @@ impl Operand {
         let bad = |why: String| DesignError::Operand { what: what.clone(), why };
         let uses: &[&str] = match o.kind.as_str() {
             "efl" | "f_number" | "back_focus" | "total_track" | "magnification" => &[],
-            "rms_spot" => &["field_deg", "rings", "wavelength_nm"],
-            "rms_wavefront" | "distortion" => &["field_deg", "wavelength_nm"],
-            "mtf" => &["field_deg", "frequency_per_mm", "orientation", "wavelength_nm"],
-            "ray_x" | "ray_y" => &["field_deg", "px", "py", "wavelength_nm"],
+            "rms_spot" => &["field_deg", "field_x_deg", "rings", "wavelength_nm"],
+            "rms_wavefront" | "distortion" => &["field_deg", "field_x_deg", "wavelength_nm"],
+            "mtf" => &["field_deg", "field_x_deg", "frequency_per_mm", "orientation", "wavelength_nm"],
+            "ray_x" | "ray_y" => &["field_deg", "field_x_deg", "px", "py", "wavelength_nm"],
             "center_thickness" | "edge_thickness" => &["surface"],
             other => {
                 return Err(bad(format!(
@@ -192,6 +204,7 @@ impl Operand {
         };
         let given = [
             ("field_deg", o.field_deg.is_some()),
+            ("field_x_deg", o.field_x_deg.is_some()),
             ("surface", o.surface.is_some()),
             ("wavelength_nm", o.wavelength_nm.is_some() && o.kind != "distortion"),
             ("frequency_per_mm", o.frequency_per_mm.is_some()),
@@ -218,6 +231,7 @@ impl Operand {
             ("max", o.max),
             ("weight", o.weight),
             ("field_deg", o.field_deg),
+            ("field_x_deg", o.field_x_deg),
             ("wavelength_nm", o.wavelength_nm),
             ("frequency_per_mm", o.frequency_per_mm),
             ("px", o.px),
@@ -225,9 +239,11 @@ impl Operand {
         ] {
             finite(name, x)?;
         }
-        let field_deg = o.field_deg.unwrap_or(0.0);
-        if field_deg.abs() >= 90.0 {
-            return Err(bad(format!("field {field_deg} deg: a field lies within +-90 deg of the axis")));
+        let (field_deg, field_x_deg) = (o.field_deg.unwrap_or(0.0), o.field_x_deg.unwrap_or(0.0));
+        for (key, a) in [("field_deg", field_deg), ("field_x_deg", field_x_deg)] {
+            if a.abs() >= 90.0 {
+                return Err(bad(format!("{key} {a}: a field angle lies within +-90 deg of the axis")));
+            }
         }
         if let Some(nm) = o.wavelength_nm {
             if nm <= 0.0 {
@@ -261,9 +277,9 @@ impl Operand {
                 if !(1..=200).contains(&rings) {
                     return Err(bad(format!("rings {rings}: give 1 to 200 Gauss rings")));
                 }
-                Measure::RmsSpot { field_deg, rings, wavelength_nm: o.wavelength_nm }
+                Measure::RmsSpot { field_deg, field_x_deg, rings, wavelength_nm: o.wavelength_nm }
             }
-            "rms_wavefront" => Measure::RmsWavefront { field_deg, wavelength_nm: o.wavelength_nm },
+            "rms_wavefront" => Measure::RmsWavefront { field_deg, field_x_deg, wavelength_nm: o.wavelength_nm },
             "mtf" => {
                 let frequency_per_mm = match o.frequency_per_mm {
                     Some(f) if f > 0.0 => f,
@@ -278,18 +294,18 @@ impl Operand {
                         return Err(bad(format!("orientation \"{x}\": one of tangential, sagittal, mean")));
                     }
                 };
-                Measure::Mtf { field_deg, frequency_per_mm, orientation, wavelength_nm: o.wavelength_nm }
+                Measure::Mtf { field_deg, field_x_deg, frequency_per_mm, orientation, wavelength_nm: o.wavelength_nm }
             }
-            "distortion" => Measure::Distortion { field_deg },
+            "distortion" => Measure::Distortion { field_deg, field_x_deg },
             "ray_x" | "ray_y" => {
                 let (px, py) = (o.px.unwrap_or(0.0), o.py.unwrap_or(0.0));
                 if px * px + py * py > 1.0 + 1e-12 {
                     return Err(bad(format!("pupil point ({px}, {py}) lies outside the unit pupil")));
                 }
                 if o.kind == "ray_x" {
-                    Measure::RayX { field_deg, px, py, wavelength_nm: o.wavelength_nm }
+                    Measure::RayX { field_deg, field_x_deg, px, py, wavelength_nm: o.wavelength_nm }
                 } else {
-                    Measure::RayY { field_deg, px, py, wavelength_nm: o.wavelength_nm }
+                    Measure::RayY { field_deg, field_x_deg, px, py, wavelength_nm: o.wavelength_nm }
                 }
             }
             "center_thickness" => Measure::CenterThickness { surface: surface(false)? },
@@ -357,20 +373,25 @@ impl Operand {
     /// Where it is measured, for tables: `field 14 deg`, `surface 2`.
     pub fn place(&self) -> String {
         let f = crate::error::num;
+        let field = |x: f64, y: f64| match x {
+            0.0 => format!("field {} deg", f(y)),
+            _ => format!("field x {} deg, y {} deg", f(x), f(y)),
+        };
         match self.measure {
-            Measure::RmsSpot { field_deg, .. }
-            | Measure::RmsWavefront { field_deg, .. }
-            | Measure::Distortion { field_deg } => format!("field {} deg", f(field_deg)),
-            Measure::Mtf { field_deg, frequency_per_mm, orientation, .. } => {
+            Measure::RmsSpot { field_deg, field_x_deg, .. }
+            | Measure::RmsWavefront { field_deg, field_x_deg, .. }
+            | Measure::Distortion { field_deg, field_x_deg } => field(field_x_deg, field_deg),
+            Measure::Mtf { field_deg, field_x_deg, frequency_per_mm, orientation, .. } => {
                 let o = match orientation {
                     Orientation::Tangential => " T",
                     Orientation::Sagittal => " S",
                     Orientation::Mean => "",
                 };
-                format!("field {} deg, {}/mm{o}", f(field_deg), f(frequency_per_mm))
+                format!("{}, {}/mm{o}", field(field_x_deg, field_deg), f(frequency_per_mm))
             }
-            Measure::RayX { field_deg, px, py, .. } | Measure::RayY { field_deg, px, py, .. } => {
-                format!("field {} deg, pupil ({}, {})", f(field_deg), f(px), f(py))
+            Measure::RayX { field_deg, field_x_deg, px, py, .. }
+            | Measure::RayY { field_deg, field_x_deg, px, py, .. } => {
+                format!("{}, pupil ({}, {})", field(field_x_deg, field_deg), f(px), f(py))
             }
             Measure::CenterThickness { surface } | Measure::EdgeThickness { surface } => format!("surface {surface}"),
             _ => String::new(),
@@ -443,7 +464,8 @@ impl Candidate<'_> {
 
     fn value(&self, m: &Measure) -> Result<f64, Why> {
         let p = self.lens;
-        let launcher = |deg: f64| Launcher::with_first(p, &self.first, Field::at_angle(p, &self.first, deg), Aim::Auto);
+        let field = |x: f64, y: f64| Field::at_angles(p, &self.first, x, y);
+        let launcher = |x: f64, y: f64| Launcher::with_first(p, &self.first, field(x, y), Aim::Auto);
         let at = |nm: Option<f64>| -> Result<Prescription, Why> {
             Ok(p.at_wavelength(nm.unwrap_or(p.primary_wavelength_nm()))?)
         };
@@ -456,8 +478,8 @@ impl Candidate<'_> {
                 let object = crate::paraxial::ObjectDistance::from_mm(p.object_distance_mm().unwrap_or(f64::INFINITY))?;
                 Ok(imaging(p, &self.first, object)?.magnification)
             }
-            Measure::RmsSpot { field_deg, rings, wavelength_nm } => {
-                let l = launcher(field_deg)?;
+            Measure::RmsSpot { field_deg, field_x_deg, rings, wavelength_nm } => {
+                let l = launcher(field_x_deg, field_deg)?;
                 let one;
                 let waves = match wavelength_nm {
                     Some(nm) => {
@@ -468,29 +490,32 @@ impl Candidate<'_> {
                 };
                 Ok(spot_polychromatic(p, &l, Pattern::Gauss, rings, ImagePlane::ImageSurface, waves)?.rms_radius)
             }
-            Measure::RmsWavefront { field_deg, wavelength_nm } => {
-                let w = wavefront_auto(p, &at(wavelength_nm)?, &launcher(field_deg)?, ImagePlane::ImageSurface)?;
+            Measure::RmsWavefront { field_deg, field_x_deg, wavelength_nm } => {
+                let l = launcher(field_x_deg, field_deg)?;
+                let w = wavefront_auto(p, &at(wavelength_nm)?, &l, ImagePlane::ImageSurface)?;
                 Ok(stats::rms_to_centroid(&w))
             }
-            Measure::Mtf { field_deg, frequency_per_mm, orientation, wavelength_nm } => {
+            Measure::Mtf { field_deg, field_x_deg, frequency_per_mm, orientation, wavelength_nm } => {
                 let q = at(wavelength_nm)?;
-                let m = mtf::mtf(p, &q, &launcher(field_deg)?, ImagePlane::ImageSurface, &[frequency_per_mm])?;
+                let l = launcher(field_x_deg, field_deg)?;
+                let m = mtf::mtf(p, &q, &l, ImagePlane::ImageSurface, &[frequency_per_mm])?;
                 Ok(match orientation {
                     Orientation::Tangential => m.tangential[0],
                     Orientation::Sagittal => m.sagittal[0],
                     Orientation::Mean => 0.5 * (m.tangential[0] + m.sagittal[0]),
                 })
             }
-            Measure::Distortion { field_deg } => {
-                Ok(curves::distortion(p, Field::at_angle(p, &self.first, field_deg), Aim::Auto)?)
+            Measure::Distortion { field_deg, field_x_deg } => {
+                Ok(curves::distortion(p, field(field_x_deg, field_deg), Aim::Auto)?)
             }
-            Measure::RayX { field_deg, px, py, wavelength_nm } | Measure::RayY { field_deg, px, py, wavelength_nm } => {
+            Measure::RayX { field_deg, field_x_deg, px, py, wavelength_nm }
+            | Measure::RayY { field_deg, field_x_deg, px, py, wavelength_nm } => {
                 let q = at(wavelength_nm)?;
-                let l = launcher(field_deg)?;
+                let l = launcher(field_x_deg, field_deg)?;
                 let tracer = Tracer::forward_to_film(&q, p.film_distance());
                 let landing = Bundle::trace(&l, &tracer, vec![(px, py)])?;
                 let ray = landing.landings[0].reached().ok_or_else(|| OpticsError::NoRealRays {
-                    why: format!("the ray through pupil ({px}, {py}) at field {field_deg} deg is blocked"),
+                    why: format!("the ray through pupil ({px}, {py}) at {} is blocked", l.field().describe()),
                 })?;
                 Ok(if matches!(m, Measure::RayX { .. }) { ray.origin.x } else { ray.origin.y })
             }

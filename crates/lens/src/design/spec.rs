@@ -103,6 +103,10 @@ pub struct OperandSpec {
     /// Field angle, degrees from the axis (toward +y).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub field_deg: Option<f64>,
+    /// The field's x component, degrees (Zemax's and optiland's component
+    /// angles; for lenses with decentred or tilted surfaces).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub field_x_deg: Option<f64>,
     /// The surface (from 1) of a thickness operand.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub surface: Option<usize>,

@@ -28,8 +28,10 @@ use crate::{Prescription, PrescriptionSpec};
 pub struct Criterion {
     /// `rms_spot`, `rms_wavefront` or `mtf`.
     pub kind: String,
-    /// The fields, degrees.
+    /// The fields, degrees (y).
     pub fields_deg: Vec<f64>,
+    /// Each field's x component, degrees (0: along y).
+    pub fields_x_deg: Vec<f64>,
     /// Gauss rings of an RMS spot.
     pub rings: usize,
     /// The operands (one per field) and the compensators as a design.
@@ -56,6 +58,14 @@ impl Criterion {
         if fields_deg.is_empty() {
             return Err(bad("fields_deg is empty: give one field or more".into()));
         }
+        let fields_x_deg = c.fields_x_deg.clone().unwrap_or_else(|| vec![0.0; fields_deg.len()]);
+        if fields_x_deg.len() != fields_deg.len() {
+            return Err(bad(format!(
+                "fields_x_deg has {} angles and fields_deg {}: give each field's x component, in the same order",
+                fields_x_deg.len(),
+                fields_deg.len()
+            )));
+        }
         let rings = c.rings.unwrap_or(6);
         match c.kind.as_str() {
             "rms_spot" | "rms_wavefront" | "mtf" => {}
@@ -72,9 +82,11 @@ impl Criterion {
         }
         let operands = fields_deg
             .iter()
-            .map(|&f| OperandSpec {
+            .zip(&fields_x_deg)
+            .map(|(&f, &x)| OperandSpec {
                 kind: c.kind.clone(),
                 field_deg: Some(f),
+                field_x_deg: (x != 0.0).then_some(x),
                 rings: (c.kind == "rms_spot").then_some(rings),
                 frequency_per_mm: c.frequency_per_mm,
                 orientation: c.orientation.clone(),
@@ -132,7 +144,7 @@ impl Criterion {
             e => e,
         })?;
         let closed_form = back_focus && compensators.len() == 1 && c.kind == "rms_spot";
-        Ok(Criterion { kind: c.kind.clone(), fields_deg, rings, design, closed_form, back_focus })
+        Ok(Criterion { kind: c.kind.clone(), fields_deg, fields_x_deg, rings, design, closed_form, back_focus })
     }
 
     /// Whether a smaller value is better (an RMS) or a larger (an MTF).
@@ -176,18 +188,24 @@ impl Criterion {
     /// fields, in closed form.
     fn closed_form_back_focus(&self, lens: &Prescription) -> Result<(f64, Vec<f64>), DesignError> {
         let waves = &self.design.waves;
-        let why = |f: f64| {
+        let why = |x: f64, f: f64| {
             move |e: crate::OpticsError| DesignError::Measure {
-                what: format!("the RMS spot at field {} deg", crate::error::num(f)),
+                what: match x {
+                    0.0 => format!("the RMS spot at field {} deg", crate::error::num(f)),
+                    _ => {
+                        format!("the RMS spot at field x {} deg, y {} deg", crate::error::num(x), crate::error::num(f))
+                    }
+                },
                 why: e.to_string(),
             }
         };
-        let first = FirstOrder::of(lens).map_err(why(0.0))?;
+        let first = FirstOrder::of(lens).map_err(why(0.0, 0.0))?;
         let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
-        for &f in &self.fields_deg {
-            let l = Launcher::with_first(lens, &first, Field::at_angle(lens, &first, f), Aim::Auto).map_err(why(f))?;
+        for (&f, &x) in self.fields_deg.iter().zip(&self.fields_x_deg) {
+            let field = Field::at_angles(lens, &first, x, f);
+            let l = Launcher::with_first(lens, &first, field, Aim::Auto).map_err(why(x, f))?;
             let s = spot_polychromatic(lens, &l, Pattern::Gauss, self.rings, ImagePlane::ImageSurface, waves)
-                .map_err(why(f))?;
+                .map_err(why(x, f))?;
             let (q0, qp, qm) = (s.rms_at_shift(0.0).powi(2), s.rms_at_shift(1.0).powi(2), s.rms_at_shift(-1.0).powi(2));
             a += q0;
             b += (qp - qm) / 4.0;

@@ -96,6 +96,10 @@ pub struct CriterionSpec {
     /// The fields judged, degrees (default 0).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fields_deg: Option<Vec<f64>>,
+    /// Each judged field's x component, degrees, in the order of
+    /// `fields_deg` (default 0 each: fields along y).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fields_x_deg: Option<Vec<f64>>,
     /// Gauss rings of an RMS spot (default 6).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rings: Option<usize>,

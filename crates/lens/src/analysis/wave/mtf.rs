@@ -84,7 +84,7 @@ pub fn cutoffs(
     image_z: f64,
 ) -> Result<(f64, f64), OpticsError> {
     let tracer = Tracer::forward_to_film_open(traced, image_z - traced.last_vertex_z());
-    let vig = p.vignetting_at(launcher.field_angle_deg());
+    let vig = launcher.vignetting(p)?;
     let rim = [(0.0, 1.0), (0.0, -1.0), (1.0, 0.0), (-1.0, 0.0)].map(|(x, y)| vig.apply(x, y));
     let mut batch = RayBatch::with_capacity(4);
     bundle::launch(launcher, rim.into_iter(), &mut batch)?;

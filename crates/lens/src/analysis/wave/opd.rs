@@ -116,7 +116,7 @@ impl<'a> Probe<'a> {
         let field = launcher.field();
         let image_z = plane.z(p, launcher)?;
         let tracer = Tracer::forward_to_film(traced, image_z - traced.last_vertex_z());
-        let vignetting = p.vignetting_at(launcher.field_angle_deg());
+        let vignetting = launcher.vignetting(p)?;
         let chief = trace_chunk(launcher, &tracer, [(0.0, 0.0)].into_iter(), |e| e)?[0].ok_or_else(|| {
             OpticsError::ChiefRayLost {
                 field: field.describe(),
@@ -178,8 +178,8 @@ impl<'a> Probe<'a> {
         }
         let t = if self.radius > 0.0 { b + disc.sqrt() } else { b - disc.sqrt() };
         let launch = match self.launcher.field() {
-            Field::Angle(_) => self.n_obj * e.launch_direction.dot(e.launch - self.chief.launch),
-            Field::Height { .. } => 0.0,
+            Field::Angle(_) | Field::Angles { .. } => self.n_obj * e.launch_direction.dot(e.launch - self.chief.launch),
+            Field::Height { .. } | Field::Point { .. } => 0.0,
         };
         Some((e.opl - self.n_img * t + launch, e.at - e.direction * t))
     }

@@ -1,5 +1,6 @@
-//! `lens convert`: write any readable prescription as JSON or as a Zemax
-//! `.zmx` file.
+//! `lens convert`: write any readable prescription as JSON, a Zemax `.zmx`
+//! file, a CODE V `.seq` file or a pbrt-v4 realistic-camera lens file
+//! (`.dat`).
 
 use crate::args::LensArgs;
 use crate::CmdResult;
@@ -16,14 +17,23 @@ pub struct Args {
     /// clear apertures. With `--f-number`, the stop is sized first.
     #[arg(long, value_name = "DEG,DEG", value_delimiter = ',', allow_hyphen_values = true)]
     clear_apertures: Option<Vec<f64>>,
-    /// Output file: `.json` (our format) or `.zmx` (Zemax, UTF-16 LE as
-    /// OpticStudio writes it); JSON on standard output when omitted.
+    /// Output file: `.json` (our format), `.zmx` (Zemax, UTF-16 LE as
+    /// OpticStudio writes it), `.seq` (CODE V) or `.dat` (pbrt-v4's
+    /// realistic camera); JSON on standard output when omitted.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// For `.dat`: the wavelength (nm) whose indices are written (pbrt-v4's
+    /// lens file has no dispersion; a lens with glasses needs it).
+    #[arg(long, value_name = "NM")]
+    wavelength_nm: Option<f64>,
 }
 
 pub fn run(a: Args) -> CmdResult {
-    a.lens.check_output(a.output.as_deref(), "-o", &["json", "zmx"])?;
+    a.lens.check_output(a.output.as_deref(), "-o", &["json", "zmx", "seq", "dat"])?;
+    let to_dat = a.output.as_deref().is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("dat")));
+    if a.wavelength_nm.is_some() && !to_dat {
+        return Err("--wavelength-nm: only a pbrt-v4 .dat output holds one wavelength's indices; leave it out".into());
+    }
     let p = match &a.clear_apertures {
         None => a.lens.load()?,
         Some(fields) => {
@@ -43,6 +53,10 @@ pub fn run(a: Args) -> CmdResult {
         Some(path) => {
             let bytes = if lens::io::is_zemax(&path) {
                 lens::io::zemax::text::encode_utf16le(&lens::io::zemax::write(&p)?)
+            } else if lens::io::is_codev(&path) {
+                lens::io::codev::write(&p)?.into_bytes()
+            } else if to_dat {
+                lens::io::dat::write_dat(&p, a.wavelength_nm)?.into_bytes()
             } else {
                 (p.to_spec().to_json_string() + "\n").into_bytes()
             };

@@ -777,3 +777,40 @@ fn fields_in_x_are_taken_by_the_field_analyses_and_named() {
         assert!(err.contains(what) && err.contains("--field-x-deg"), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn convert_writes_codev_and_pbrt_lens_files() {
+    let dir = std::env::temp_dir().join(format!("lens-convert-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let seq = dir.join("dg.seq");
+    let dat = dir.join("dg.dat");
+    let (code, _, err) = lens(&["convert", "lens-data/double-gauss-50mm.json", "-o", seq.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let info = |path: &str| {
+        let (code, out, err) = lens(&["info", path, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        json(&out)
+    };
+    let (a, b) = (info("lens-data/double-gauss-50mm.json"), info(seq.to_str().unwrap()));
+    assert!((a["efl"].as_f64().unwrap() - b["efl"].as_f64().unwrap()).abs() < 1e-12 * 50.0);
+    // pbrt-v4 has no dispersion: a lens with glasses needs a wavelength
+    let (code, _, err) = lens(&["convert", "lens-data/double-gauss-50mm.json", "-o", dat.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--wavelength-nm") && !dat.exists(), "{err}");
+    let (code, _, err) = lens(&[
+        "convert",
+        "lens-data/double-gauss-50mm.json",
+        "-o",
+        dat.to_str().unwrap(),
+        "--wavelength-nm",
+        "587.5618",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let text = std::fs::read_to_string(&dat).unwrap();
+    assert!(text.contains("indices at 587.5618 nm") && text.lines().filter(|l| !l.starts_with('#')).count() == 11);
+    let (code, _, err) =
+        lens(&["convert", "lens-data/double-gauss-50mm.json", "-o", seq.to_str().unwrap(), "--wavelength-nm", "500"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("only a pbrt-v4 .dat output"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

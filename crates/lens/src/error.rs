@@ -47,6 +47,17 @@ pub enum LoadError {
         /// What is wrong and what to change.
         message: String,
     },
+    /// A CODE V `.seq` file has something that cannot be read or is not
+    /// supported.
+    #[error("{origin}: {}{message}", if *line > 0 { format!("line {line}: ") } else { String::new() })]
+    CodeV {
+        /// File name.
+        origin: String,
+        /// 1-based line (0: the file as a whole).
+        line: usize,
+        /// What is wrong and what to change.
+        message: String,
+    },
     /// A glass catalogue the file names cannot be read.
     #[error("{origin}: glass_catalogs: {source}")]
     Glass {

@@ -92,3 +92,86 @@ fn focus_last_thickness_at_infinity(spec: &mut PrescriptionSpec) {
         }
     }
 }
+
+/// The prescription as a pbrt-v4 realistic-camera lens file (the format
+/// [`parse_dat`] reads): one line per surface, front first, of radius,
+/// thickness to the next surface (the last: to the film), the index after
+/// the surface (1 for air) and the aperture diameter, all mm; the stop a
+/// line of radius 0 (index 0 when air follows it, as pbrt's files write
+/// it). A stop on a lens surface becomes a radius-0 line of thickness 0
+/// just before that surface.
+///
+/// `wavelength_nm`: pbrt-v4's file holds one index per element (no
+/// dispersion), so a lens with glasses is written at that wavelength and
+/// refused without one. Also refused, each with the surface and the
+/// reason: aspheres (pbrt traces spheres), paraxial surfaces, decentred or
+/// tilted surfaces, plane refracting surfaces (radius 0 is pbrt's
+/// aperture stop) and surfaces with no clear aperture (pbrt needs every
+/// diameter).
+///
+/// ```
+/// let p = lens::Prescription::load(
+///     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/double-gauss-50mm.json"),
+/// )
+/// .unwrap();
+/// assert!(lens::io::dat::write_dat(&p, None).unwrap_err().contains("--wavelength-nm"));
+/// let text = lens::io::dat::write_dat(&p, Some(587.5618)).unwrap();
+/// let back = lens::io::dat::parse_dat(&text, "<doc>").unwrap();
+/// assert_eq!(back.surfaces.len(), p.surfaces().len());
+/// ```
+pub fn write_dat(p: &Prescription, wavelength_nm: Option<f64>) -> Result<String, String> {
+    let dispersive = p.surfaces().iter().any(|s| s.glass.is_some());
+    let at = match wavelength_nm {
+        Some(w) => p.at_wavelength(w).map_err(|e| e.to_string())?,
+        None if dispersive => {
+            return Err("pbrt-v4's lens file holds one index per element (no dispersion), and this lens has glasses: \
+                 give --wavelength-nm to write their indices at one wavelength"
+                .into())
+        }
+        None => p.clone(),
+    };
+    let mut out = format!("# {}\n", p.name().replace(['\n', '\r'], " "));
+    if let Some(w) = wavelength_nm.filter(|_| dispersive) {
+        out.push_str(&format!("# indices at {w} nm (pbrt-v4 has no dispersion)\n"));
+    }
+    out.push_str("# radius\tthickness\tior\taperture\n");
+    let mut before = 1.0;
+    for (i, s) in at.surfaces().iter().enumerate() {
+        let n = i + 1;
+        let refuse = |why: &str| Err(format!("surface {n}: {why}; pbrt-v4's lens file cannot hold it"));
+        if s.asphere.is_some() {
+            return refuse("an asphere (pbrt's realistic camera traces spheres)");
+        }
+        if s.paraxial.is_some() {
+            return refuse("an ideal (paraxial) lens");
+        }
+        if s.decenter_mm != [0.0; 2]
+            || s.tilt_deg != [0.0; 2]
+            || p.elements().iter().any(|e| (e.surfaces[0]..=e.surfaces[1]).contains(&n))
+        {
+            return refuse("decentred or tilted (pbrt's elements are co-axial)");
+        }
+        let Some(sd) = s.semi_diameter else {
+            return refuse("no clear aperture (pbrt needs every element's diameter: give semi_diameter, or convert with --clear-apertures)");
+        };
+        let is_plane = s.curvature == 0.0;
+        if is_plane && !(s.stop && s.ior == before) {
+            return refuse("a plane refracting surface (pbrt reads radius 0 as the aperture stop)");
+        }
+        let stop_line =
+            |ior_after: f64| format!("0\t{}\t{}\t{}\n", 0.0, if ior_after == 1.0 { 0.0 } else { ior_after }, 2.0 * sd);
+        if s.stop && is_plane {
+            // the stop itself: radius 0, its own thickness
+            let eta = if s.ior == 1.0 { 0.0 } else { s.ior };
+            out.push_str(&format!("0\t{}\t{eta}\t{}\n", s.thickness, 2.0 * sd));
+        } else {
+            if s.stop {
+                // a stop on a lens surface: pbrt's stop line just before it
+                out.push_str(&stop_line(before));
+            }
+            out.push_str(&format!("{}\t{}\t{}\t{}\n", 1.0 / s.curvature, s.thickness, s.ior, 2.0 * sd));
+        }
+        before = s.ior;
+    }
+    Ok(out)
+}

@@ -1,7 +1,8 @@
-//! Prescription files in and out: JSON (our format), pbrt-v4 `.dat` and
-//! Zemax `.zmx`, chosen by the file's extension. Nothing here computes optics; the model
+//! Prescription files in and out: JSON (our format), pbrt-v4 `.dat`,
+//! Zemax `.zmx` and CODE V `.seq`, chosen by the file's extension. Nothing here computes optics; the model
 //! is in [`crate::model`].
 
+pub mod codev;
 pub mod dat;
 pub mod files;
 pub mod json;
@@ -13,8 +14,9 @@ use crate::model::{Prescription, PrescriptionSpec};
 use std::path::Path;
 
 /// Reads a prescription file as written, without validating it: pbrt-v4
-/// `.dat` when the extension is `dat`, Zemax when it is `zmx` (glasses
-/// looked up in the shipped catalogues), JSON otherwise.
+/// `.dat` when the extension is `dat`, Zemax when it is `zmx`, CODE V when
+/// it is `seq` (glasses looked up in the shipped catalogues), JSON
+/// otherwise.
 pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
     load_spec_with(path, Catalogs::shipped())
 }
@@ -25,7 +27,7 @@ pub fn load_spec(path: &Path) -> Result<PrescriptionSpec, LoadError> {
 /// Zemax file's `GCAT` vendors are searched first among those.
 pub fn load_spec_and_catalogs(path: &Path, extra: Vec<Catalog>) -> Result<(PrescriptionSpec, Catalogs), LoadError> {
     let origin = path.display().to_string();
-    if is_zemax(path) {
+    if is_zemax(path) || is_codev(path) {
         let catalogs = Catalogs::with(extra);
         let spec = load_spec_with(path, &catalogs)?;
         return Ok((spec, catalogs));
@@ -46,8 +48,14 @@ pub fn is_zemax(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zmx"))
 }
 
-/// [`load_spec`] with a Zemax file's glasses looked up in `catalogs` (its
-/// `GCAT` vendors first); JSON and `.dat` do not use them.
+/// Whether `path` names a CODE V sequence file (extension `seq`).
+pub fn is_codev(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("seq"))
+}
+
+/// [`load_spec`] with a Zemax or CODE V file's glasses looked up in
+/// `catalogs` (a Zemax file's `GCAT` vendors first); JSON and `.dat` do not
+/// use them.
 pub fn load_spec_with(path: &Path, catalogs: &Catalogs) -> Result<PrescriptionSpec, LoadError> {
     let bytes = files::read_bounded(path, files::MAX_TEXT_BYTES).map_err(|e| match e {
         files::ReadError::Io { path, source } => LoadError::Io { path, source },
@@ -77,6 +85,13 @@ pub fn load_spec_with(path: &Path, catalogs: &Catalogs) -> Result<PrescriptionSp
         let column = 1 + good.iter().rev().take_while(|b| **b != b'\n').count();
         LoadError::Json { origin: origin.clone(), line, column, message: "the file is not UTF-8 text".into() }
     })?;
+    if is_codev(path) {
+        let mut spec =
+            codev::read(&text, catalogs).map_err(|e| LoadError::CodeV { origin, line: e.line, message: e.message })?;
+        let file = path.file_name().map_or_else(|| path.display().to_string(), |f| f.to_string_lossy().into_owned());
+        spec.source = Some(format!("imported from the CODE V file {file}"));
+        return Ok(spec);
+    }
     if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("dat")) {
         dat::parse_dat(&text, &origin)
     } else {

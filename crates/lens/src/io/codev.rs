@@ -144,7 +144,8 @@ struct Reading {
 /// ```
 pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, SeqError> {
     let mut r = Reading { scale: 1.0, radius_mode: false, ..Reading::default() };
-    let mut in_private = false;
+    // the line of the PRV that opened a private catalogue, until its END
+    let mut in_private: Option<usize> = None;
     let mut private_waves = 0usize;
     let mut seen_image = false;
     for c in commands(text) {
@@ -157,9 +158,9 @@ pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, SeqErro
                 .ok_or_else(|| err(line, format!("{}: the {what} \"{t}\" is not a number", c.name)))
         };
         let nums = |what: &str| -> Result<Vec<f64>, SeqError> { (0..c.args.len()).map(|i| num(i, what)).collect() };
-        if in_private {
+        if in_private.is_some() {
             match c.name.as_str() {
-                "END" => in_private = false,
+                "END" => in_private = None,
                 "PWL" => private_waves = c.args.len(),
                 _ => {
                     // 'NAME' n1 n2 ...: one index per PWL wavelength
@@ -171,7 +172,13 @@ pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, SeqErro
                         .collect::<Option<Vec<f64>>>()
                         .filter(|v| !v.is_empty() && (private_waves == 0 || v.len() == private_waves))
                         .ok_or_else(|| {
-                            err(line, format!("private glass {name}: give one index of 1 or more per PWL wavelength"))
+                            err(
+                                line,
+                                format!(
+                                    "private glass {name} (in the PRV block of line {}): give 'NAME' and one index of 1 or more per PWL wavelength, and close the block with END",
+                                    in_private.unwrap_or(0)
+                                ),
+                            )
                         })?;
                     if n.iter().any(|x| *x != n[0]) {
                         return Err(err(
@@ -240,7 +247,7 @@ pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, SeqErro
             "VLX" => r.vignetting[1] = nums("vignetting factor")?,
             "VUY" => r.vignetting[2] = nums("vignetting factor")?,
             "VLY" => r.vignetting[3] = nums("vignetting factor")?,
-            "PRV" => in_private = true,
+            "PRV" => in_private = Some(line),
             "SO" => {
                 let t = num(c.args.len().min(2) - 1, "object thickness")?;
                 if c.args.len() >= 2 && num(0, "object radius")? != 0.0 {
@@ -293,6 +300,9 @@ pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, SeqErro
             "GO" => break,
             _ => surface_qualifier(&c, &mut r, seen_image, &num)?,
         }
+    }
+    if let Some(opened) = in_private {
+        return Err(err(opened, "PRV: the private glass block has no END"));
     }
     to_spec(r, catalogs)
 }

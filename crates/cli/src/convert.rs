@@ -30,7 +30,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> CmdResult {
     a.lens.check_output(a.output.as_deref(), "-o", &["json", "zmx", "seq", "dat"])?;
-    let to_dat = a.output.as_deref().is_some_and(|p| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("dat")));
+    let to_dat = a.output.as_deref().is_some_and(lens::io::is_dat);
     if a.wavelength_nm.is_some() && !to_dat {
         return Err("--wavelength-nm: only a pbrt-v4 .dat output holds one wavelength's indices; leave it out".into());
     }

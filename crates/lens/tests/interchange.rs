@@ -198,6 +198,8 @@ fn what_seq_cannot_hold_is_refused_by_line() {
     assert!(e.line == 17 && e.message.contains("thickness \"x\""), "{e:?}");
     let e = with("'PLATE' 1.5 1.5\nEND\n", "'PLATE' 1.5 1.5\n");
     assert!(e.line == 15 && e.message.contains("in the PRV block of line 12"), "{e:?}");
+    let e = with("SO 0.0 1e+12", "SO");
+    assert!(e.line == 16 && e.message.contains("SO: give the object thickness"), "{e:?}");
     // writing: what CODE V's ASP cannot hold
     let p = Prescription::load(std::path::Path::new(concat!(
         env!("CARGO_MANIFEST_DIR"),

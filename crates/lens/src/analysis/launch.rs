@@ -88,12 +88,7 @@ impl Field {
     /// [`Field::at_angle`] for an object `object_distance` mm in front of
     /// the first vertex (`None`: infinity) and the entrance pupil at `z_ep`.
     pub(crate) fn from_angle(object_distance: Option<f64>, z_ep: f64, deg: f64) -> Field {
-        match object_distance {
-            Some(d) if d.is_finite() && d > 0.0 && deg.is_finite() && deg.abs() < 90.0 => {
-                Field::Height { object_distance: d, height: -(d + z_ep) * deg.to_radians().tan() }
-            }
-            _ => Field::Angle(deg),
-        }
+        Field::from_angles(object_distance, z_ep, 0.0, deg)
     }
 
     /// [`Field::at_angle`] with an x component: component angles `x_deg`
@@ -101,16 +96,21 @@ impl Field {
     /// finite design object the point at `-(d + z_EP) (tan x, tan y)`.
     /// The y-only field of [`Field::at_angle`] when `x_deg` is 0.
     pub fn at_angles(p: &Prescription, first: &FirstOrder, x_deg: f64, y_deg: f64) -> Field {
-        if x_deg == 0.0 {
-            return Field::at_angle(p, first, y_deg);
-        }
+        Field::from_angles(p.object_distance_mm(), first.entrance_pupil.z, x_deg, y_deg)
+    }
+
+    /// [`Field::at_angles`] for an object `object_distance` mm in front of
+    /// the first vertex (`None`: infinity) and the entrance pupil at `z_ep`
+    /// (the y-only variants when x is 0, through [`Field::point`] and
+    /// [`Field::angles`]).
+    fn from_angles(object_distance: Option<f64>, z_ep: f64, x_deg: f64, y_deg: f64) -> Field {
         let ok = |a: f64| a.is_finite() && a.abs() < 90.0;
-        match p.object_distance_mm() {
+        match object_distance {
             Some(d) if d.is_finite() && d > 0.0 && ok(x_deg) && ok(y_deg) => {
-                let s = -(d + first.entrance_pupil.z);
-                Field::Point { object_distance: d, x: s * x_deg.to_radians().tan(), y: s * y_deg.to_radians().tan() }
+                let s = -(d + z_ep);
+                Field::point(d, s * x_deg.to_radians().tan(), s * y_deg.to_radians().tan())
             }
-            _ => Field::Angles { x_deg, y_deg },
+            _ => Field::angles(x_deg, y_deg),
         }
     }
 

@@ -249,7 +249,8 @@ pub fn read(text: &str, catalogs: &Catalogs) -> Result<PrescriptionSpec, SeqErro
             "VLY" => r.vignetting[3] = nums("vignetting factor")?,
             "PRV" => in_private = Some(line),
             "SO" => {
-                let t = num(c.args.len().min(2) - 1, "object thickness")?;
+                // SO t, or SO r t
+                let t = num(c.args.len().clamp(1, 2) - 1, "object thickness")?;
                 if c.args.len() >= 2 && num(0, "object radius")? != 0.0 {
                     return Err(err(line, "SO: a curved object surface is not read; give radius 0"));
                 }

@@ -48,6 +48,12 @@ pub fn is_zemax(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("zmx"))
 }
 
+/// Whether `path` names a pbrt-v4 realistic-camera lens file (extension
+/// `dat`).
+pub fn is_dat(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("dat"))
+}
+
 /// Whether `path` names a CODE V sequence file (extension `seq`).
 pub fn is_codev(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("seq"))
@@ -92,7 +98,7 @@ pub fn load_spec_with(path: &Path, catalogs: &Catalogs) -> Result<PrescriptionSp
         spec.source = Some(format!("imported from the CODE V file {file}"));
         return Ok(spec);
     }
-    if path.extension().is_some_and(|e| e.eq_ignore_ascii_case("dat")) {
+    if is_dat(path) {
         dat::parse_dat(&text, &origin)
     } else {
         PrescriptionSpec::from_json_str(&text, &origin)

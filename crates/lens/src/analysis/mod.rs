@@ -13,6 +13,7 @@ pub mod coc;
 pub mod convergence;
 pub mod curves;
 pub mod fan;
+pub mod field;
 pub mod focus;
 pub mod launch;
 pub mod pattern;

@@ -19,6 +19,7 @@ macro_rules! out {
     }};
 }
 
+mod animate;
 mod args;
 mod bench;
 mod chromatic;
@@ -91,6 +92,9 @@ enum Command {
     Convergence(convergence::Args),
     /// Render a scene through a pinhole, thin lens or real lens.
     Render(render::Args),
+    /// Render a frame sequence: a scene's keyframed focus, f-number, pose
+    /// and focal length, one file per frame.
+    Animate(animate::Args),
     /// Render a grid of one scene varying its camera and film settings, labelled.
     Study(study::Args),
     /// Time the batch ray tracer on one core.
@@ -120,6 +124,7 @@ fn main() -> ExitCode {
         Command::Tolerance(a) => tolerance::run(a),
         Command::Render(a) => render::run(a),
         Command::Study(a) => study::run(a),
+        Command::Animate(a) => animate::run(a),
         Command::Bench(a) => bench::run(a),
     };
     // what is still buffered must reach its file too

@@ -65,6 +65,12 @@ pub struct Args {
     /// Distance from the film to the plane in focus, m.
     #[arg(long, value_name = "M")]
     focus_distance: Option<f64>,
+    /// Autofocus: a pixel COLUMN,ROW from the top left of the film as
+    /// rendered, or the name of a shape; the focus distance is found by
+    /// tracing the scene there (a real lens: its film moved to the
+    /// real-ray best focus). Replaces the scene's focus.
+    #[arg(long, value_name = "X,Y|NAME", value_parser = parse_focus_on, conflicts_with = "focus_distance")]
+    focus_on: Option<::render::scene::format::FocusOn>,
     /// The thin lens's focus_shift (0.1: 10% nearer at the rim).
     #[arg(long, value_name = "FRACTION")]
     focus_shift: Option<f64>,
@@ -79,6 +85,13 @@ pub struct Args {
     threads: Option<usize>,
     #[command(flatten)]
     glass_range: crate::args::GlassRangeArgs,
+    /// Render passes written as extra channels of the EXR output (-o
+    /// OUT.exr or --exr): a comma-separated list of depth (Z, m along the
+    /// axis), position (P.x P.y P.z, m), normal (N.x N.y N.z), coc (CoC,
+    /// the lens's blur diameter in pixels), or all. One central ray per
+    /// pixel centre, unfiltered (docs/rendering.md).
+    #[arg(long, value_name = "LIST", value_parser = parse_passes)]
+    passes: Option<PassList>,
     /// Instead of one render: render at 1, 2, 4, ... and --spp samples per
     /// pixel, time each and measure its RMSE (and relative to the mean
     /// pixel value) against a reference of 16x --spp samples, whose own
@@ -151,6 +164,7 @@ pub fn run(a: Args) -> CmdResult {
         f_number: a.f_number,
         focal_length_mm: a.focal_length_mm,
         focus_distance: a.focus_distance,
+        focus_on: a.focus_on.clone(),
         focus_shift: a.focus_shift,
         aperture_shape: a.aperture_shape.clone(),
         prescription: a.prescription.clone(),
@@ -171,6 +185,22 @@ pub fn run(a: Args) -> CmdResult {
         }
     }
     outputs::check(&outs, &scene.inputs)?;
+    let exr_outputs: Vec<&PathBuf> =
+        [Some(&a.output), a.exr.as_ref()].into_iter().flatten().filter(|p| is_exr(p)).collect();
+    if a.passes.is_some() {
+        if a.report.is_some() {
+            return Err(
+                "--passes with --report: the report writes its reference image only; render once for the passes".into(),
+            );
+        }
+        if exr_outputs.is_empty() {
+            return Err(format!(
+                "--passes: the passes are channels of an OpenEXR file; give -o OUT.exr or --exr OUT.exr (the output {} is not one)",
+                a.output.display()
+            )
+            .into());
+        }
+    }
     if let Some(spp) = a.spp {
         if spp > MAX_SPP {
             return Err(format!("--spp {spp}: at most {MAX_SPP} samples per pixel").into());
@@ -214,9 +244,23 @@ pub fn run(a: Args) -> CmdResult {
     let (image, stats) = pool.install(|| render(&scene, Options { spp, seed: a.seed }, &|_| bar.inc(1)));
     bar.finish_and_clear();
     let secs = t.elapsed().as_secs_f64();
-    image.save(&a.output, scene.film.exposure)?;
-    if let Some(exr) = &a.exr {
-        image.save(exr, scene.film.exposure)?;
+    match &a.passes {
+        Some(which) => {
+            let passes = ::render::passes::Passes::of(&scene)?;
+            let channels = passes.channels(&which.0);
+            for p in &exr_outputs {
+                image.save_exr_with(p, &channels)?;
+            }
+            if !is_exr(&a.output) {
+                image.save(&a.output, scene.film.exposure)?;
+            }
+        }
+        None => {
+            image.save(&a.output, scene.film.exposure)?;
+            if let Some(exr) = &a.exr {
+                image.save(exr, scene.film.exposure)?;
+            }
+        }
     }
     let colour = match &scene.colour {
         ColourMode::Rgb => "RGB".to_string(),
@@ -231,6 +275,34 @@ pub fn run(a: Args) -> CmdResult {
         scene.camera_summary
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// `--focus-on`: two numbers are a pixel, anything else a shape's name.
+fn parse_focus_on(s: &str) -> Result<::render::scene::format::FocusOn, String> {
+    use ::render::scene::format::FocusOn;
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    if let [x, y] = parts.as_slice() {
+        if let (Ok(x), Ok(y)) = (x.parse::<f64>(), y.parse::<f64>()) {
+            return Ok(FocusOn::Pixel([x, y]));
+        }
+    }
+    if s.trim().is_empty() {
+        return Err("give a pixel COLUMN,ROW or a shape's name".into());
+    }
+    Ok(FocusOn::Shape(s.trim().to_string()))
+}
+
+/// `--passes`' list (one value, not a repeated flag).
+#[derive(Clone)]
+struct PassList(Vec<::render::passes::Pass>);
+
+fn parse_passes(s: &str) -> Result<PassList, String> {
+    ::render::passes::Pass::parse_list(s).map(PassList)
+}
+
+/// Whether `p` names an OpenEXR file.
+fn is_exr(p: &std::path::Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
 /// The report's reference has this many times the sweep's largest count.

@@ -451,6 +451,80 @@ fn render_warns_of_silent_traps_and_echoes_the_camera() {
     assert!(!err.contains("warning") && err.contains("f = 50.3582 mm, f/2, focus 7 m, sensor 36 x 20.25 mm"), "{err}");
 }
 
+/// `--passes` writes the named channels into the EXR output and refuses
+/// an output that is not EXR, an unknown pass, and a report, by name.
+#[test]
+fn render_passes_go_into_the_exr() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-passes-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (png, exr) = (dir.join("t.png"), dir.join("t.exr"));
+    let scene = "lens-data/scenes/dof-double-gauss-f2.json";
+    let small = ["--width", "32", "--height", "18", "--spp", "1"];
+    let (code, _, err) =
+        lens(&[&["render", scene, "-o", png.to_str().unwrap(), "--passes", "depth,coc"][..], &small].concat());
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("--passes: the passes are channels of an OpenEXR file; give -o OUT.exr or --exr"), "{err}");
+    let (code, _, err) =
+        lens(&[&["render", scene, "-o", exr.to_str().unwrap(), "--passes", "depth,blur"][..], &small].concat());
+    assert!(code == 2 && err.contains("unknown pass \"blur\""), "{err}");
+    let (code, _, err) = lens(
+        &[
+            &["render", scene, "-o", png.to_str().unwrap(), "--exr", exr.to_str().unwrap(), "--passes", "depth,normal"]
+                [..],
+            &small,
+        ]
+        .concat(),
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(png.exists());
+    let meta = exr::meta::MetaData::read_from_file(&exr, false).unwrap();
+    let names: Vec<String> = meta.headers[0].channels.list.iter().map(|c| c.name.to_string()).collect();
+    assert_eq!(names, ["B", "G", "N.x", "N.y", "N.z", "R", "Z"]);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `--focus-on` focuses on a pixel and says so; it cannot be given with
+/// `--focus-distance`, and a pixel on the background is refused.
+#[test]
+fn render_focus_on_a_pixel() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-focus-on-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("t.png");
+    let scene = "lens-data/scenes/dof-study.json";
+    let small = ["--width", "32", "--height", "18", "--spp", "1", "-o", png.to_str().unwrap()];
+    let (code, _, err) = lens(&[&["render", scene, "--focus-on", "16,10"][..], &small].concat());
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("(autofocus on pixel (16, 10), "), "{err}");
+    let (code, _, err) =
+        lens(&[&["render", scene, "--focus-on", "16,10", "--focus-distance", "3"][..], &small].concat());
+    assert!(code == 2 && err.contains("cannot be used with"), "{err}");
+    let (code, _, err) = lens(&[&["render", scene, "--focus-on", "16,0"][..], &small].concat());
+    assert!(code == 1 && err.contains("camera.focus_on: pixel (16, 0) sees the background"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// `lens animate` writes one file per frame, skips finished ones with
+/// `--resume`, and refuses a name without the frame number.
+#[test]
+fn animate_writes_frames_and_resumes() {
+    let dir = std::env::temp_dir().join(format!("lens-cli-animate-{}", std::process::id()));
+    let pattern = dir.join("f%03d.png");
+    let scene = "lens-data/scenes/focus-pull-portrait.json";
+    let small = ["--frames", "3", "--width", "16", "--spp", "1", "-o", pattern.to_str().unwrap()];
+    let (code, _, err) = lens(&[&["animate", scene][..], &small].concat());
+    assert_eq!(code, 0, "{err}");
+    for k in 0..3 {
+        assert!(dir.join(format!("f{k:03}.png")).exists(), "frame {k}");
+    }
+    std::fs::remove_file(dir.join("f001.png")).unwrap();
+    let (code, _, err) = lens(&[&["animate", scene, "--resume"][..], &small].concat());
+    assert!(code == 0 && err.contains("resuming: 2 of 3 frames already written"), "{err}");
+    assert!(dir.join("f001.png").exists());
+    let (code, _, err) = lens(&["animate", scene, "-o", dir.join("f.png").to_str().unwrap()]);
+    assert!(code == 1 && err.contains("%04d"), "{err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
 /// A study runs from any folder (its scene, masks and prescriptions are
 /// relative to the study file) and takes the film and thread flags `render`
 /// takes, for every cell.

@@ -62,6 +62,7 @@ pub fn render<'py>(
         f_number,
         focal_length_mm,
         focus_distance,
+        focus_on: None,
         focus_shift,
         aperture_shape,
         prescription,

@@ -113,6 +113,45 @@ impl Image {
         }
     }
 
+    /// Writes an OpenEXR file of the linear RGB pixels and the channels
+    /// `extra` (a name and one value per pixel, row by row from the top:
+    /// the render passes' `Z`, `P.x`, `N.x`, `CoC`...), every channel 32-bit
+    /// float, losslessly compressed. Extra values may be infinite (a depth
+    /// pass's background); the RGB pixels are checked as [`Self::save`]
+    /// checks them.
+    #[cfg(feature = "exr")]
+    pub fn save_exr_with(&self, path: &Path, extra: &[(&str, Vec<f32>)]) -> Result<(), ImageError> {
+        use exr::prelude::*;
+        let err = |m: String| ImageError::Write { path: path.display().to_string(), message: m };
+        let bad = self.pixels.iter().filter(|p| !p.is_finite() || p.abs().max_element() > f32::MAX as f64).count();
+        if bad > 0 {
+            return Err(err(format!(
+                "{bad} pixels are not finite numbers a 32-bit float can hold; nothing written (lower the lights' radiance)"
+            )));
+        }
+        let n = self.width * self.height;
+        let mut channels = SmallVec::new();
+        for (k, name) in ["R", "G", "B"].into_iter().enumerate() {
+            let v: Vec<f32> = self.pixels.iter().map(|p| p[k] as f32).collect();
+            channels.push(AnyChannel::new(name, FlatSamples::F32(v)));
+        }
+        for (name, v) in extra {
+            if v.len() != n {
+                return Err(err(format!("channel {name} has {} values for {n} pixels", v.len())));
+            }
+            channels.push(AnyChannel::new(*name, FlatSamples::F32(v.clone())));
+        }
+        let layer = Layer::new(
+            (self.width, self.height),
+            LayerAttributes::default(),
+            Encoding::FAST_LOSSLESS,
+            AnyChannels::sort(channels),
+        );
+        let image = exr::image::Image::from_layer(layer);
+        lens::io::files::write_atomic(path, |out| image.write().to_buffered(out).map_err(std::io::Error::other))
+            .map_err(|e| err(e.to_string()))
+    }
+
     /// Reads a linear RGB OpenEXR file of at most [`MAX_READ_PIXELS`]
     /// pixels (its header is read first: a small file that declares a huge
     /// image is refused before anything is allocated).

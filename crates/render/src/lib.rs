@@ -10,6 +10,7 @@
 //! loads them. Scenes are in metres; the real-lens camera converts to
 //! millimetres at its boundary.
 
+pub mod animation;
 pub mod bvh;
 pub mod camera;
 mod companions;
@@ -20,6 +21,7 @@ pub mod integrator;
 pub mod light;
 pub mod material;
 pub mod mesh;
+pub mod passes;
 pub mod renderer;
 pub mod report;
 pub mod rng;

@@ -162,6 +162,15 @@ impl Tracer {
         Tracer::with_glasses(steps, p)
     }
 
+    /// From image space back to object space with no clear aperture
+    /// clipping (the stop's included): what finds a film point's chief ray,
+    /// which is defined whether or not the lens vignettes it.
+    pub fn reverse_unclipped(p: &Prescription) -> Tracer {
+        let t = Tracer::reverse(p);
+        let all = 0..t.steps.len();
+        t.unclipped(all)
+    }
+
     /// Object space to the stop surface, with no clear aperture clipping:
     /// the outcome `Reached` holds the ray at its hit on the stop surface.
     /// Used to aim real rays at the stop.

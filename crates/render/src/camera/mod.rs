@@ -433,6 +433,22 @@ impl Camera {
         }
     }
 
+    /// The central ray through each film position (u, v in [0, 1], v
+    /// down): the pinhole's ray, the thin lens's ray through its centre
+    /// (it is not bent), a real lens's chief ray (through the centre of
+    /// its stop, at its primary wavelength). What a pixel "looks at" for
+    /// the render passes and autofocus; `None` where no such ray leaves
+    /// the lens.
+    pub fn central_rays(&self, film: &[(f64, f64)]) -> Vec<Option<Ray>> {
+        match self {
+            Camera::Pinhole { frame, tan_half, aspect } | Camera::ThinLens { frame, tan_half, aspect, .. } => film
+                .iter()
+                .map(|&(u, v)| Some(Ray { origin: frame.origin, dir: pinhole_dir(frame, *tan_half, *aspect, u, v) }))
+                .collect(),
+            Camera::Real(c) => c.chief_rays(film),
+        }
+    }
+
     /// The camera rays of a batch of samples, with their weights (`None`
     /// where the lens blocks the ray): a real lens traces them all as one
     /// batch through the lens crate's batch tracer.

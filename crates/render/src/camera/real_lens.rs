@@ -152,7 +152,26 @@ impl RealLensCamera {
             return Err(CameraError::Tilted);
         }
         let film = lens::paraxial::film_for_focus_from_film(p, focus_m * 1e3)?;
-        let p = p.with_film_distance(film)?;
+        Self::with_film_distance(frame, p, film, sensor, aperture)
+    }
+
+    /// Builds the camera with its film `film_mm` behind the last vertex
+    /// (autofocus's real-ray best focus), then bounds the exit pupil as
+    /// [`Self::new`] does.
+    pub fn with_film_distance(
+        frame: Frame,
+        p: &Prescription,
+        film_mm: f64,
+        sensor: [f64; 2],
+        aperture: Aperture,
+    ) -> Result<Self, CameraError> {
+        if !(sensor[0] > 0.0 && sensor[1] > 0.0 && sensor[0].is_finite() && sensor[1].is_finite()) {
+            return Err(CameraError::Sensor { width: sensor[0], height: sensor[1] });
+        }
+        if p.is_tilted() {
+            return Err(CameraError::Tilted);
+        }
+        let p = p.with_film_distance(film_mm)?;
         let z_film = p.total_track();
         let z_rear = p.last_vertex_z();
         let half_diag = 0.5 * (sensor[0].hypot(sensor[1]));
@@ -361,10 +380,122 @@ impl RealLensCamera {
     /// vertex toward the film) as a scene ray (m). A rotation of a unit
     /// direction: unit already.
     fn to_scene(&self, b: &RayBatch, i: usize) -> Ray {
+        self.lens_to_scene(DVec3::new(b.x[i], b.y[i], b.z[i]), DVec3::new(b.dx[i], b.dy[i], b.dz[i]))
+    }
+
+    /// A lens-frame point (mm) and direction as a scene ray (m).
+    fn lens_to_scene(&self, p: DVec3, d: DVec3) -> Ray {
         let f = &self.frame;
         let to_world = |x: f64, y: f64, z_back: f64| f.right * x + f.up * y + f.forward * z_back;
-        let origin = f.origin + to_world(b.x[i], b.y[i], self.z_film - b.z[i]) * 1e-3;
-        Ray { origin, dir: to_world(b.dx[i], b.dy[i], -b.dz[i]) }
+        let origin = f.origin + to_world(p.x, p.y, self.z_film - p.z) * 1e-3;
+        Ray { origin, dir: to_world(d.x, d.y, -d.z) }
+    }
+
+    /// The chief rays of film positions (u, v in [0, 1], v down) at the
+    /// primary wavelength, as scene rays leaving the first surface: the ray
+    /// from each film point that crosses the stop at its centre, found by
+    /// the secant method on its aim at the rear vertex plane (the lens is
+    /// symmetric about its axis, so the aim lies on the film point's
+    /// radius) to 1e-9 mm at the stop, traced with no clear aperture
+    /// clipping (a vignetted chief ray still says where the pixel looks).
+    /// `None` where no such ray gets through the surfaces (it misses one or
+    /// is totally reflected).
+    pub fn chief_rays(&self, film: &[(f64, f64)]) -> Vec<Option<Ray>> {
+        let p = &self.prescription;
+        let tracer = Tracer::reverse_unclipped(p);
+        let stop = p.stop_index();
+        let d = self.z_film - self.z_rear;
+        let xp = lens::paraxial::FirstOrder::of(p).ok().and_then(|f| f.exit_pupil).map(|x| x.z);
+        film.iter()
+            .map(|&(u, v)| {
+                let (fx, fy) = (-(u - 0.5) * self.sensor[0], -(0.5 - v) * self.sensor[1]);
+                let r = fx.hypot(fy);
+                let e = if r > 0.0 { DVec2::new(fx, fy) / r } else { DVec2::X };
+                let origin = DVec3::new(fx, fy, self.z_film);
+                let ray_to = |t: f64| {
+                    let to = DVec3::new(e.x * t, e.y * t, self.z_rear);
+                    lens::Ray { origin, direction: (to - origin).normalize() }
+                };
+                // the stop height (along e) of the ray aimed t along e
+                let height = |t: f64| match tracer.trace_at_surface(ray_to(t), stop) {
+                    (_, Some(hit)) => Some(hit.x * e.x + hit.y * e.y),
+                    _ => None,
+                };
+                // from the paraxial aim at the exit pupil's centre
+                let guess = match xp {
+                    Some(z) if (z - self.z_film).abs() > 1e-9 => r * (z - self.z_rear) / (z - self.z_film),
+                    _ => 0.0,
+                };
+                let (mut t0, mut t1) = (guess, guess + 1e-3 * d.max(1.0));
+                let (mut g0, mut g1) = (height(t0)?, height(t1)?);
+                for _ in 0..60 {
+                    if g1.abs() <= 1e-9 || g1 == g0 {
+                        break;
+                    }
+                    let mut t2 = t1 - g1 * (t1 - t0) / (g1 - g0);
+                    // a step whose ray misses a surface is halved back
+                    let mut g2 = height(t2);
+                    for _ in 0..40 {
+                        if g2.is_some() {
+                            break;
+                        }
+                        t2 = 0.5 * (t1 + t2);
+                        g2 = height(t2);
+                    }
+                    (t0, g0) = (t1, g1);
+                    (t1, g1) = (t2, g2?);
+                }
+                if g1.is_nan() || g1.abs() > 1e-6 {
+                    return None;
+                }
+                match tracer.trace(ray_to(t1)) {
+                    lens::Outcome::Reached { ray, .. } => Some(self.lens_to_scene(ray.origin, ray.direction)),
+                    _ => None,
+                }
+            })
+            .collect()
+    }
+
+    /// The lens's full (geometric) blur diameter on the film, mm, of an
+    /// on-axis point at each of `distances` (m from the film, as the
+    /// camera's focus distance is measured), from the lens crate's circle
+    /// of confusion (its real on-axis bundle at this film); `None` for a
+    /// distance inside the lens.
+    pub fn blur_diameters_mm(&self, distances: &[f64]) -> Result<Vec<Option<f64>>, lens::OpticsError> {
+        let p = &self.prescription;
+        let object_of = |z_m: f64| {
+            let o = z_m * 1e3 - self.z_film;
+            (o > 0.0).then_some(o)
+        };
+        let objects: Vec<f64> = distances.iter().filter_map(|&z| object_of(z)).collect();
+        // the object the film is focused on (exact paraxial focus)
+        let focus = match lens::paraxial::object_distance_in_focus(p, self.z_film - self.z_rear)? {
+            lens::paraxial::ObjectDistance::Finite(d) => d,
+            lens::paraxial::ObjectDistance::Infinity => f64::INFINITY,
+        };
+        let table = lens::analysis::coc::circle_of_confusion(p, focus, &objects)?;
+        let mut rows = table.rows.iter();
+        Ok(distances.iter().map(|&z| object_of(z).and_then(|_| rows.next().map(|r| r.geo_diameter))).collect())
+    }
+
+    /// Sensor width and height, mm.
+    pub fn sensor_mm(&self) -> [f64; 2] {
+        self.sensor
+    }
+
+    /// How far in front of the film the lens's first vertex is, m: nearer
+    /// points are inside the lens.
+    pub fn front_distance_m(&self) -> f64 {
+        self.z_film * 1e-3
+    }
+
+    /// The distance from the film to the plane in focus (exact paraxial
+    /// focus of the film as placed), m; infinity when focused there.
+    pub fn focus_distance_m(&self) -> f64 {
+        match lens::paraxial::object_distance_in_focus(&self.prescription, self.z_film - self.z_rear) {
+            Ok(lens::paraxial::ObjectDistance::Finite(d)) => (d + self.z_film) * 1e-3,
+            _ => f64::INFINITY,
+        }
     }
 
     /// The inverse of [`Self::to_scene`]: a scene ray's point and direction

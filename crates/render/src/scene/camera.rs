@@ -40,7 +40,57 @@ fn lens_to_focus(d: f64, focal_length_mm: Option<f64>) -> Result<(f64, Option<f6
     Ok((0.5 * d * (1.0 + r), Some(2.0 * f / (1.0 + r))))
 }
 
-pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Result<Camera, (String, FieldError)> {
+/// The distance in focus a thin or real lens camera was given, or what to
+/// give (a camera built after autofocus has it).
+fn given_focus(c: &CameraSpec) -> Result<f64, (String, FieldError)> {
+    c.focus_distance().ok_or_else(|| {
+        ("camera.focus_distance".to_string(), "give focus_distance (m) or focus_on (a shape's name or a pixel)".into())
+    })
+}
+
+/// A real lens camera's prescription as the scene asks for it: loaded,
+/// its stop resized for `f_number` or `stop_semi_diameter`, not yet
+/// focused.
+pub(super) fn load_lens(
+    c: &CameraSpec,
+    dir: &Path,
+    given: Option<&lens::Prescription>,
+) -> Result<lens::Prescription, (String, FieldError)> {
+    let CameraSpec::Lens { prescription, f_number, stop_semi_diameter, .. } = c else {
+        return Err(("camera.type".into(), "not a real lens camera".into()));
+    };
+    let mut lens = match given {
+        Some(p) => p.clone(),
+        None => lens::Prescription::load(dir.join(prescription))
+            .map_err(|e| ("camera.prescription".to_string(), e.into()))?,
+    };
+    if let Some(n) = f_number {
+        lens = lens::analysis::aperture::with_f_number(&lens, *n)
+            .map_err(|e| ("camera.f_number".to_string(), e.into()))?;
+    }
+    if let Some(sd) = stop_semi_diameter {
+        lens = lens.with_stop_semi_diameter(*sd).map_err(|e| ("camera.stop_semi_diameter".to_string(), e.into()))?;
+    }
+    Ok(lens)
+}
+
+/// The camera of the scene file (a real lens's prescription `given`, or
+/// loaded from its file); `film_mm` places a real lens's film
+/// (mm behind its last vertex: autofocus's real-ray best focus) instead of
+/// focusing it paraxially on `focus_distance`.
+pub(super) fn build_camera(
+    c: &CameraSpec,
+    film: &FilmSpec,
+    dir: &Path,
+    given: Option<&lens::Prescription>,
+    film_mm: Option<f64>,
+) -> Result<Camera, (String, FieldError)> {
+    if c.focus_distance().is_some() && c.focus_on().is_some() && film_mm.is_none() {
+        return Err((
+            "camera.focus_on".into(),
+            "give focus_distance or focus_on, not both (autofocus finds the distance)".into(),
+        ));
+    }
     let aspect = film.width as f64 / film.height as f64;
     let pose = |p: &Pose| -> Result<Frame, (String, FieldError)> {
         if ![p.position, p.look_at, p.up].iter().flatten().all(|x| x.is_finite()) {
@@ -64,7 +114,6 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
             aperture,
             f_number,
             focal_length_mm,
-            focus_distance,
             aperture_shape,
             focus_shift,
             glass,
@@ -90,6 +139,7 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
             if !(diameter.is_finite() && diameter >= 0.0) {
                 return Err(("camera.aperture".into(), format!("{}: a diameter >= 0 m", exact(diameter)).into()));
             }
+            let focus_distance = &given_focus(c)?;
             if !(focus_distance.is_finite() && *focus_distance > 0.0) {
                 return Err(("camera.focus_distance".into(), "must be a positive distance in m".into()));
             }
@@ -125,31 +175,16 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
                 focus_shift: *focus_shift,
             })
         }
-        CameraSpec::Lens {
-            prescription,
-            f_number,
-            stop_semi_diameter,
-            focus_distance,
-            sensor_mm,
-            aperture_shape,
-            ..
-        } => {
-            let path = dir.join(prescription);
-            let mut lens =
-                lens::Prescription::load(&path).map_err(|e| ("camera.prescription".to_string(), e.into()))?;
-            if let Some(n) = f_number {
-                lens = lens::analysis::aperture::with_f_number(&lens, *n)
-                    .map_err(|e| ("camera.f_number".to_string(), e.into()))?;
-            }
-            if let Some(sd) = stop_semi_diameter {
-                lens = lens
-                    .with_stop_semi_diameter(*sd)
-                    .map_err(|e| ("camera.stop_semi_diameter".to_string(), e.into()))?;
-            }
+        CameraSpec::Lens { sensor_mm, aperture_shape, .. } => {
+            let lens = load_lens(c, dir, given)?;
             let aperture =
                 Aperture::from_spec(aperture_shape, dir).map_err(|e| ("camera.aperture_shape".into(), e.into()))?;
-            let cam = RealLensCamera::new(pose(&c.pose())?, &lens, *focus_distance, *sensor_mm, aperture)
-                .map_err(|e| ("camera".to_string(), e.into()))?;
+            let frame = pose(&c.pose())?;
+            let cam = match film_mm {
+                Some(f) => RealLensCamera::with_film_distance(frame, &lens, f, *sensor_mm, aperture),
+                None => RealLensCamera::new(frame, &lens, given_focus(c)?, *sensor_mm, aperture),
+            }
+            .map_err(|e| ("camera".to_string(), e.into()))?;
             Ok(Camera::Real(Box::new(cam)))
         }
     }
@@ -161,7 +196,10 @@ pub(super) fn build_camera(c: &CameraSpec, film: &FilmSpec, dir: &Path) -> Resul
 pub(super) fn summary(c: &CameraSpec, camera: &Camera) -> String {
     match (c, camera) {
         (CameraSpec::Pinhole { fov_deg, .. }, _) => format!("pinhole, vertical field of view {} deg", num(*fov_deg)),
-        (CameraSpec::ThinLens { focal_length_mm, focus_distance, .. }, Camera::ThinLens { radius, .. }) => {
+        (
+            CameraSpec::ThinLens { focal_length_mm, focus_distance: Some(focus_distance), .. },
+            Camera::ThinLens { radius, .. },
+        ) => {
             let lens = match focal_length_mm {
                 Some(f) if *radius > 0.0 => format!("f = {} mm, f/{}", num(*f), num(f * 1e-3 / (2.0 * radius))),
                 Some(f) => format!("f = {} mm, pinhole aperture", num(*f)),
@@ -169,7 +207,7 @@ pub(super) fn summary(c: &CameraSpec, camera: &Camera) -> String {
             };
             format!("thin lens, {lens}, focus {} m", num(*focus_distance))
         }
-        (CameraSpec::Lens { focus_distance, sensor_mm, .. }, Camera::Real(r)) => {
+        (CameraSpec::Lens { focus_distance: Some(focus_distance), sensor_mm, .. }, Camera::Real(r)) => {
             let p = r.prescription();
             let name = if p.name().is_empty() { "real lens".to_string() } else { p.name().to_string() };
             let first = match lens::paraxial::FirstOrder::of(p) {
@@ -190,10 +228,7 @@ pub(super) fn summary(c: &CameraSpec, camera: &Camera) -> String {
 /// The distance in focus the file gives, m from the film (`None`: a
 /// pinhole).
 pub(super) fn focus_distance(c: &CameraSpec) -> Option<f64> {
-    match c {
-        CameraSpec::Pinhole { .. } => None,
-        CameraSpec::ThinLens { focus_distance, .. } | CameraSpec::Lens { focus_distance, .. } => Some(*focus_distance),
-    }
+    c.focus_distance()
 }
 
 /// For a real lens, the share of the film's four corners from which no

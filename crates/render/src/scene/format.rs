@@ -30,6 +30,10 @@ pub struct SceneFile {
     /// Point lights.
     #[serde(default)]
     pub lights: Vec<LightSpec>,
+    /// Keyframes of a frame sequence (`lens animate`; a still render
+    /// ignores them).
+    #[serde(default)]
+    pub animation: Option<crate::animation::AnimationSpec>,
 }
 
 /// A JSON object into a map, refusing a key given twice.
@@ -98,6 +102,16 @@ pub enum ApertureSpec {
     },
 }
 
+/// What autofocus focuses on.
+#[derive(Debug, Clone, Deserialize, PartialEq)]
+#[serde(untagged)]
+pub enum FocusOn {
+    /// The shape with this `name`.
+    Shape(String),
+    /// The pixel (column, row) from the top left of the film as rendered.
+    Pixel([f64; 2]),
+}
+
 /// A camera. (Pose fields are repeated in each variant rather than
 /// flattened, so that unknown fields are still rejected.)
 #[derive(Debug, Clone, Deserialize)]
@@ -140,8 +154,13 @@ pub enum CameraSpec {
         /// Distance from the film plane to the plane in focus, m. With
         /// `focal_length_mm` the film sits at the image distance behind the
         /// lens (1/s + 1/s' = 1/f); without it the model has no film
-        /// distance and this is measured from the lens.
-        focus_distance: f64,
+        /// distance and this is measured from the lens. Or give `focus_on`.
+        #[serde(default)]
+        focus_distance: Option<f64>,
+        /// Autofocus: a shape's `name`, or a pixel `[column, row]` from the
+        /// top left; the focus distance is found by tracing the scene there.
+        #[serde(default)]
+        focus_on: Option<FocusOn>,
         /// Aperture shape.
         #[serde(default)]
         aperture_shape: ApertureSpec,
@@ -173,8 +192,15 @@ pub enum CameraSpec {
         /// Or the stop's clear radius, mm.
         #[serde(default)]
         stop_semi_diameter: Option<f64>,
-        /// Distance from the film plane to the plane in focus, m.
-        focus_distance: f64,
+        /// Distance from the film plane to the plane in focus, m (the film
+        /// placed at its exact paraxial focus). Or give `focus_on`.
+        #[serde(default)]
+        focus_distance: Option<f64>,
+        /// Autofocus: a shape's `name`, or a pixel `[column, row]` from the
+        /// top left; the film is moved to the real-ray best focus of the
+        /// point found there.
+        #[serde(default)]
+        focus_on: Option<FocusOn>,
         /// Sensor width and height, mm.
         sensor_mm: [f64; 2],
         /// Aperture shape (applied at the stop).
@@ -389,6 +415,9 @@ pub enum ShapeSpec {
         radius: f64,
         /// Material name.
         material: String,
+        /// A name (for `focus_on`), unique in the scene.
+        #[serde(default)]
+        name: Option<String>,
     },
     /// An infinite plane.
     Plane {
@@ -398,6 +427,9 @@ pub enum ShapeSpec {
         normal: V3,
         /// Material name.
         material: String,
+        /// A name (for `focus_on`), unique in the scene.
+        #[serde(default)]
+        name: Option<String>,
     },
     /// A parallelogram corner + s u + t v.
     Quad {
@@ -409,6 +441,9 @@ pub enum ShapeSpec {
         v: V3,
         /// Material name.
         material: String,
+        /// A name (for `focus_on`), unique in the scene.
+        #[serde(default)]
+        name: Option<String>,
     },
     /// An axis-aligned box.
     Box {
@@ -418,6 +453,9 @@ pub enum ShapeSpec {
         max: V3,
         /// Material name.
         material: String,
+        /// A name (for `focus_on`), unique in the scene.
+        #[serde(default)]
+        name: Option<String>,
     },
     /// A Wavefront OBJ triangle mesh.
     Mesh {
@@ -431,6 +469,9 @@ pub enum ShapeSpec {
         translate: V3,
         /// Material name.
         material: String,
+        /// A name (for `focus_on`), unique in the scene.
+        #[serde(default)]
+        name: Option<String>,
     },
 }
 
@@ -451,7 +492,49 @@ pub enum LightSpec {
     },
 }
 
+impl ShapeSpec {
+    /// The shape's name, if it has one.
+    pub fn name(&self) -> Option<&str> {
+        match self {
+            ShapeSpec::Sphere { name, .. }
+            | ShapeSpec::Plane { name, .. }
+            | ShapeSpec::Quad { name, .. }
+            | ShapeSpec::Box { name, .. }
+            | ShapeSpec::Mesh { name, .. } => name.as_deref(),
+        }
+    }
+}
+
 impl CameraSpec {
+    /// The focus distance given (m), `None` for a pinhole or autofocus.
+    pub fn focus_distance(&self) -> Option<f64> {
+        match self {
+            CameraSpec::Pinhole { .. } => None,
+            CameraSpec::ThinLens { focus_distance, .. } | CameraSpec::Lens { focus_distance, .. } => *focus_distance,
+        }
+    }
+
+    /// What autofocus focuses on, if it is asked for.
+    pub fn focus_on(&self) -> Option<&FocusOn> {
+        match self {
+            CameraSpec::Pinhole { .. } => None,
+            CameraSpec::ThinLens { focus_on, .. } | CameraSpec::Lens { focus_on, .. } => focus_on.as_ref(),
+        }
+    }
+
+    /// Sets the focus distance and the autofocus target (a pinhole has
+    /// neither: unchanged).
+    pub fn set_focus(&mut self, distance: Option<f64>, on: Option<FocusOn>) {
+        match self {
+            CameraSpec::Pinhole { .. } => {}
+            CameraSpec::ThinLens { focus_distance, focus_on, .. }
+            | CameraSpec::Lens { focus_distance, focus_on, .. } => {
+                *focus_distance = distance;
+                *focus_on = on;
+            }
+        }
+    }
+
     /// The camera's pose.
     pub fn pose(&self) -> Pose {
         match self {

@@ -1,6 +1,7 @@
 //! A scene ready to render: shapes with materials, lights, background and
 //! camera, built from a scene file with every problem reported by field.
 
+mod autofocus;
 mod camera;
 mod colour;
 pub mod format;
@@ -242,6 +243,20 @@ impl Scene {
     /// is built.
     pub fn load_with(path: &Path, overrides: &Overrides) -> Result<Scene, SceneError> {
         let name = path.display().to_string();
+        let file = Scene::read_with(path, overrides)?;
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let mut scene = Scene::build(file, dir, &name)?;
+        scene.inputs.insert(0, path.to_path_buf());
+        if overrides.strict_glass_range {
+            scene.set_glass_range(lens::glass::GlassRange::Strict)?;
+        }
+        Ok(scene)
+    }
+
+    /// Reads a scene file and applies `overrides` to it, without building
+    /// it (what a frame sequence builds once per frame).
+    pub fn read_with(path: &Path, overrides: &Overrides) -> Result<SceneFile, SceneError> {
+        let name = path.display().to_string();
         let text = lens::io::files::read_bounded(path, lens::io::files::MAX_TEXT_BYTES)
             .map_err(|e| SceneError::Io { path: name.clone(), message: e.reason() })
             .and_then(|b| {
@@ -259,16 +274,23 @@ impl Scene {
             field,
             source: message.into(),
         })?;
-        let mut scene = Scene::build(file, dir, &name)?;
-        scene.inputs.insert(0, path.to_path_buf());
-        if overrides.strict_glass_range {
-            scene.set_glass_range(lens::glass::GlassRange::Strict)?;
-        }
-        Ok(scene)
+        Ok(file)
     }
 
     /// Builds a scene from its parsed file; `dir` resolves relative paths.
     pub fn build(file: SceneFile, dir: &Path, name: &str) -> Result<Scene, SceneError> {
+        Scene::build_with_lens(file, dir, name, None)
+    }
+
+    /// [`Self::build`] with a real lens camera's prescription given in
+    /// place of its file (a zoom between its listed positions); its
+    /// `f_number` and `stop_semi_diameter` still apply.
+    pub fn build_with_lens(
+        file: SceneFile,
+        dir: &Path,
+        name: &str,
+        lens: Option<&lens::Prescription>,
+    ) -> Result<Scene, SceneError> {
         let inputs = referenced_files(&file, dir);
         let bad = |field: String, message: String| SceneError::Invalid {
             path: name.to_string(),
@@ -363,10 +385,19 @@ impl Scene {
         // shapes
         let mut shapes = Vec::new();
         let mut material_of = Vec::new();
+        // the primitives of each named shape
+        let mut named: Vec<(String, std::ops::Range<usize>)> = Vec::new();
         for (i, s) in file.shapes.iter().enumerate() {
             let field = |f: &str| format!("shapes[{i}].{f}");
+            let first = shapes.len();
+            if let Some(n) = s.name() {
+                if n.is_empty() || named.iter().any(|(m, _)| m == n) {
+                    return Err(bad(field("name"), format!("\"{n}\": give each named shape its own, non-empty name")));
+                }
+                named.push((n.to_string(), first..first));
+            }
             match s {
-                ShapeSpec::Sphere { center, radius, material: m } => {
+                ShapeSpec::Sphere { center, radius, material: m, .. } => {
                     finite(&field("center"), center)?;
                     if !(radius.is_finite() && *radius > 0.0 && *radius <= MAX_COORDINATE) {
                         return Err(bad(
@@ -380,7 +411,7 @@ impl Scene {
                     shapes.push(Shape::Sphere { center: v3(*center), radius: *radius });
                     material_of.push(material(i, m)?);
                 }
-                ShapeSpec::Plane { point, normal, material: m } => {
+                ShapeSpec::Plane { point, normal, material: m, .. } => {
                     finite(&field("point"), point)?;
                     finite(&field("normal"), normal)?;
                     let n = v3(*normal)
@@ -389,7 +420,7 @@ impl Scene {
                     shapes.push(Shape::Plane { point: v3(*point), normal: n });
                     material_of.push(material(i, m)?);
                 }
-                ShapeSpec::Quad { corner, u, v, material: m } => {
+                ShapeSpec::Quad { corner, u, v, material: m, .. } => {
                     finite(&field("corner"), corner)?;
                     finite(&field("u"), u)?;
                     finite(&field("v"), v)?;
@@ -399,7 +430,7 @@ impl Scene {
                     shapes.push(Shape::Quad { corner: v3(*corner), u: v3(*u), v: v3(*v) });
                     material_of.push(material(i, m)?);
                 }
-                ShapeSpec::Box { min, max, material: m } => {
+                ShapeSpec::Box { min, max, material: m, .. } => {
                     finite(&field("min"), min)?;
                     finite(&field("max"), max)?;
                     let (lo, hi) = (v3(*min), v3(*max));
@@ -415,7 +446,7 @@ impl Scene {
                         material_of.push(mi);
                     }
                 }
-                ShapeSpec::Mesh { obj, scale, translate, material: m } => {
+                ShapeSpec::Mesh { obj, scale, translate, material: m, .. } => {
                     let mi = material(i, m)?;
                     let p = dir.join(obj);
                     let text = lens::io::files::read_bounded(&p, lens::io::files::MAX_TEXT_BYTES)
@@ -449,6 +480,11 @@ impl Scene {
                         shapes.push(Shape::Triangle { v: t.map(|p| p * *scale + v3(*translate)) });
                         material_of.push(mi);
                     }
+                }
+            }
+            if s.name().is_some() {
+                if let Some((_, r)) = named.last_mut() {
+                    r.end = shapes.len();
                 }
             }
         }
@@ -490,11 +526,26 @@ impl Scene {
                 ground: radiance(ground, "ground")?,
             },
         };
-        let mut camera = camera::build_camera(&file.camera, f, dir).map_err(|(field, source)| SceneError::Invalid {
-            path: name.to_string(),
-            field,
-            source,
-        })?;
+        let invalid =
+            |(field, source): (String, FieldError)| SceneError::Invalid { path: name.to_string(), field, source };
+        // autofocus: the distance found, written into the camera as if given
+        let mut file = file;
+        let mut focus_note = None;
+        let mut film_mm = None;
+        if let Some(on) = file.camera.focus_on().cloned() {
+            if file.camera.focus_distance().is_some() {
+                return Err(invalid((
+                    "camera.focus_on".into(),
+                    "give focus_distance or focus_on, not both (autofocus finds the distance)".into(),
+                )));
+            }
+            let a = autofocus::autofocus(&file.camera, &file.film, dir, lens, &on, &shapes, &named).map_err(invalid)?;
+            file.camera.set_focus(Some(a.distance_m), None);
+            film_mm = a.film_mm;
+            focus_note = Some(a.note);
+        }
+        let f = &file.film;
+        let mut camera = camera::build_camera(&file.camera, f, dir, lens, film_mm).map_err(invalid)?;
         let spheres: Vec<(DVec3, f64)> = (0..shapes.len())
             .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }))
             .filter_map(|i| match shapes[i] {
@@ -510,7 +561,10 @@ impl Scene {
             Camera::Pinhole { .. } => {}
         }
         let warnings = camera::settings_warnings(&file.camera, &camera, &shapes);
-        let camera_summary = camera::summary(&file.camera, &camera);
+        let mut camera_summary = camera::summary(&file.camera, &camera);
+        if let Some(n) = focus_note {
+            camera_summary = format!("{camera_summary} ({n})");
+        }
         let range = lens::glass::GlassRange::Extrapolate;
         let (colour, range_warnings) =
             colour_mode(&file.film, &camera, &materials, &point_lights, range).map_err(|(field, e)| bad(field, e))?;

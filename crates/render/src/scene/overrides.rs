@@ -6,7 +6,7 @@
 //! and field of view), a thin lens with a focal length becomes a real lens
 //! with a sensor of the same field of view.
 
-use super::format::{ApertureSpec, CameraSpec, SceneFile};
+use super::format::{ApertureSpec, CameraSpec, FocusOn, SceneFile};
 use std::path::{Path, PathBuf};
 
 /// A camera type to switch to.
@@ -37,8 +37,11 @@ pub struct Overrides {
     pub f_number: Option<f64>,
     /// Thin-lens focal length, mm.
     pub focal_length_mm: Option<f64>,
-    /// Distance to the plane in focus, m.
+    /// Distance to the plane in focus, m (replaces the file's autofocus).
     pub focus_distance: Option<f64>,
+    /// Autofocus on a pixel or a named shape (replaces the file's focus
+    /// distance).
+    pub focus_on: Option<FocusOn>,
     /// The thin lens's `focus_shift`.
     pub focus_shift: Option<f64>,
     /// Aperture shape.
@@ -102,6 +105,7 @@ impl Overrides {
                     ("f_number", self.f_number.is_some()),
                     ("focal_length_mm", self.focal_length_mm.is_some()),
                     ("focus_distance", self.focus_distance.is_some()),
+                    ("focus_on", self.focus_on.is_some()),
                     ("focus_shift", self.focus_shift.is_some()),
                     ("aperture_shape", self.aperture_shape.is_some()),
                     ("prescription", self.prescription.is_some()),
@@ -110,15 +114,7 @@ impl Overrides {
                     return Err((field(f), "a pinhole has no lens: choose --camera thin-lens or lens".into()));
                 }
             }
-            CameraSpec::ThinLens {
-                aperture,
-                f_number,
-                focal_length_mm,
-                focus_distance,
-                aperture_shape,
-                focus_shift,
-                ..
-            } => {
+            CameraSpec::ThinLens { aperture, f_number, focal_length_mm, aperture_shape, focus_shift, .. } => {
                 if self.prescription.is_some() {
                     return Err((field("prescription"), "a thin lens has no prescription: add --camera lens".into()));
                 }
@@ -133,9 +129,6 @@ impl Overrides {
                 if let Some(f) = self.focal_length_mm {
                     *focal_length_mm = Some(f);
                 }
-                if let Some(d) = self.focus_distance {
-                    *focus_distance = d;
-                }
                 if let Some(s) = self.focus_shift {
                     *focus_shift = s;
                 }
@@ -143,7 +136,7 @@ impl Overrides {
                     *aperture_shape = s;
                 }
             }
-            CameraSpec::Lens { prescription, f_number, stop_semi_diameter, focus_distance, aperture_shape, .. } => {
+            CameraSpec::Lens { prescription, f_number, stop_semi_diameter, aperture_shape, .. } => {
                 if self.aperture.is_some() || self.focal_length_mm.is_some() || self.focus_shift.is_some() {
                     let f = if self.aperture.is_some() {
                         "aperture"
@@ -168,13 +161,15 @@ impl Overrides {
                     *f_number = Some(n);
                     *stop_semi_diameter = None;
                 }
-                if let Some(d) = self.focus_distance {
-                    *focus_distance = d;
-                }
                 if let Some(s) = self.shape() {
                     *aperture_shape = s;
                 }
             }
+        }
+        if let Some(d) = self.focus_distance {
+            file.camera.set_focus(Some(d), None);
+        } else if let Some(on) = &self.focus_on {
+            file.camera.set_focus(None, Some(on.clone()));
         }
         Ok(())
     }
@@ -199,7 +194,7 @@ impl Overrides {
         let (fov, focal, fno, focus) = match c {
             CameraSpec::Pinhole { fov_deg, .. } => (Some(*fov_deg), None, None, None),
             CameraSpec::ThinLens { fov_deg, focal_length_mm, f_number, focus_distance, .. } => {
-                (Some(*fov_deg), *focal_length_mm, *f_number, Some(*focus_distance))
+                (Some(*fov_deg), *focal_length_mm, *f_number, *focus_distance)
             }
             CameraSpec::Lens { prescription, f_number, sensor_mm, focus_distance, .. } => {
                 let p = lens::Prescription::load(dir.join(prescription))
@@ -207,10 +202,13 @@ impl Overrides {
                 let first = lens::paraxial::FirstOrder::of(&p)
                     .map_err(|e| ("camera.prescription".to_string(), e.to_string()))?;
                 let fov = 2.0 * (sensor_mm[1] / 2.0 / first.efl.abs()).atan().to_degrees();
-                (Some(fov), Some(first.efl.abs()), Some(f_number.unwrap_or(first.f_number)), Some(*focus_distance))
+                (Some(fov), Some(first.efl.abs()), Some(f_number.unwrap_or(first.f_number)), *focus_distance)
             }
         };
         let fov_deg = fov.unwrap_or(40.0);
+        // the focus carried over: a distance, or the autofocus target
+        let focus_on = c.focus_on().cloned();
+        let focus_distance = if focus_on.is_some() { None } else { Some(focus.unwrap_or(3.0)) };
         let shape = match c {
             CameraSpec::ThinLens { aperture_shape, .. } | CameraSpec::Lens { aperture_shape, .. } => {
                 aperture_shape.clone()
@@ -227,7 +225,8 @@ impl Overrides {
                 aperture: None,
                 f_number: fno.filter(|_| focal.is_some()),
                 focal_length_mm: focal,
-                focus_distance: self.focus_distance.or(focus).unwrap_or(3.0),
+                focus_distance,
+                focus_on: focus_on.clone(),
                 aperture_shape: shape.clone(),
                 focus_shift: 0.0,
                 glass: None,
@@ -258,7 +257,8 @@ impl Overrides {
                     prescription,
                     f_number: self.f_number.or(fno),
                     stop_semi_diameter: None,
-                    focus_distance: self.focus_distance.or(focus).unwrap_or(3.0),
+                    focus_distance,
+                    focus_on: focus_on.clone(),
                     sensor_mm: [h * aspect, h],
                     aperture_shape: shape.clone(),
                 }

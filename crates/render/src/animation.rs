@@ -3,12 +3,16 @@
 //! thin lens's, or a zoom lens's between its listed positions), and each
 //! frame is the scene with those settings interpolated. Every frame of a
 //! sequence is rendered with the same seed, so a pixel draws the same
-//! random numbers in every frame and noise does not flicker where the
-//! picture does not change. Focus breathing is not modelled: it comes out
-//! of the real lens, whose film moves as it focuses.
+//! random numbers in every frame, and a real lens's focus pull draws its
+//! aperture samples from one set of exit-pupil bounds for all frames
+//! ([`SharedPupil`]): noise does not flicker where the picture does not
+//! change. Focus breathing is not modelled: it comes out of the real lens,
+//! whose film moves as it focuses.
 
+use crate::camera::aperture::Aperture;
+use crate::camera::real_lens::SharedPupil;
 use crate::scene::format::{CameraSpec, SceneFile, V3};
-use crate::scene::{FieldError, Overrides, Scene, SceneError};
+use crate::scene::{FieldError, Given, Overrides, Scene, SceneError};
 use lens::error::{exact, num};
 use lens::Prescription;
 use serde::Deserialize;
@@ -71,6 +75,9 @@ pub struct Animation {
     /// The zoom's positions: (focal length, spec), increasing focal length.
     zoom: Vec<(f64, lens::PrescriptionSpec)>,
     strict_glass_range: bool,
+    /// A real lens's exit-pupil bounds for every frame's film, made once
+    /// (where the lens and its stop stay and the focus is keyframed).
+    pupil: Option<SharedPupil>,
 }
 
 /// An error about `field` of the scene file.
@@ -176,7 +183,48 @@ impl Animation {
                 _ => {}
             }
         }
-        Ok(Animation { file, dir, name, frames, keys, zoom, strict_glass_range: overrides.strict_glass_range })
+        let mut anim = Animation {
+            file,
+            dir,
+            name,
+            frames,
+            keys,
+            zoom,
+            strict_glass_range: overrides.strict_glass_range,
+            pupil: None,
+        };
+        anim.pupil = anim.shared_pupil()?;
+        Ok(anim)
+    }
+
+    /// One set of exit-pupil bounds for all frames of a real lens whose
+    /// prescription and stop stay (no f-number or zoom keyframes) and
+    /// whose focus is a distance: they hold the films of every frame's
+    /// focus, so each frame draws its samples from the same regions (the
+    /// same aim for the same random numbers: the noise stays put), and
+    /// they are made once instead of per frame. `None` otherwise.
+    fn shared_pupil(&self) -> Result<Option<SharedPupil>, SceneError> {
+        let CameraSpec::Lens { sensor_mm, aperture_shape, .. } = &self.file.camera else { return Ok(None) };
+        if self.keys.iter().any(|k| k.f_number.is_some() || k.focal_length_mm.is_some()) {
+            return Ok(None);
+        }
+        let focus_keyed = self.keys.iter().any(|k| k.focus_distance.is_some());
+        if !focus_keyed && self.file.camera.focus_distance().is_none() {
+            return Ok(None);
+        }
+        let p = Scene::camera_lens(&self.file.camera, &self.dir, &self.name)?;
+        let Ok(aperture) = Aperture::from_spec(aperture_shape, &self.dir) else { return Ok(None) };
+        let mut films = (f64::INFINITY, f64::NEG_INFINITY);
+        for k in 0..self.frames {
+            let focus = interpolate_mapped(&self.keys, k, &|kf: &Keyframe| kf.focus_distance, |d| 1.0 / d, |x| 1.0 / x)
+                .or(self.file.camera.focus_distance());
+            // a frame that cannot be focused is named when it is built
+            let Some(Ok(f)) = focus.map(|d| lens::paraxial::film_for_focus_from_film(&p, d * 1e3)) else {
+                return Ok(None);
+            };
+            films = (films.0.min(f), films.1.max(f));
+        }
+        Ok(Some(SharedPupil::new(&p, &aperture, *sensor_mm, films)))
     }
 
     /// Sets the film's colour transport for every frame (`lens animate
@@ -267,7 +315,9 @@ impl Animation {
         if let Some(d) = focus {
             file.camera.set_focus(Some(d), None);
         }
-        let mut scene = Scene::build_with_lens(file, &self.dir, &self.name, lens.as_ref()).map_err(frame_err)?;
+        let mut scene =
+            Scene::build_given(file, &self.dir, &self.name, &Given { lens: lens.as_ref(), pupil: self.pupil.as_ref() })
+                .map_err(frame_err)?;
         if self.strict_glass_range {
             scene.set_glass_range(lens::glass::GlassRange::Strict).map_err(frame_err)?;
         }

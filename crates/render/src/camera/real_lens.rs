@@ -29,6 +29,7 @@ use crate::spectrum::SampledWavelengths;
 use glam::DVec2;
 use lens::trace::SpectralBatch;
 use lens::{DVec3, Prescription, RayBatch, Tracer};
+use std::sync::Arc;
 
 /// A real lens in a scene.
 #[derive(Debug, Clone)]
@@ -46,7 +47,7 @@ pub struct RealLensCamera {
     /// z of the rear vertex plane, where rays are aimed.
     z_rear: f64,
     sensor: [f64; 2],
-    tables: PupilTables,
+    tables: Arc<PupilTables>,
     aperture: Aperture,
     stop_sd: f64,
     /// Mean unnormalised weight at the film centre: weights are divided by
@@ -55,6 +56,9 @@ pub struct RealLensCamera {
     /// The small lamps a share of the samples aims at (none until
     /// [`RealLensCamera::aim_at_lamps`]).
     lamps: RealLampAim,
+    /// How this film sees the pupil bounds (1 unless they were made for a
+    /// sequence at another film: [`super::pupil::pupil_scale`]).
+    pupil_scale: f64,
 }
 
 /// How camera rays go through the lens.
@@ -131,6 +135,82 @@ impl LensTrace {
     }
 }
 
+/// A spectral render samples at most 360-830 nm, within the glasses'
+/// data: the pupil bounds hold both ends (none for a lens without glasses).
+fn bounded_ends(p: &Prescription) -> Vec<f64> {
+    if !p.is_dispersive() {
+        return vec![];
+    }
+    let (lo, hi) = crate::spectrum::cie::range_through(p.glasses());
+    if lo < hi {
+        vec![lo, hi]
+    } else {
+        vec![]
+    }
+}
+
+/// Exit-pupil bounds made once for a frame sequence's films: every frame
+/// of a focus pull draws its samples from the same regions, so a sample's
+/// aperture uniforms aim it alike in every frame and the noise pattern
+/// stays put. The bounds hold the passing targets of films at the range's
+/// ends and middle, grown (as for the film radii between a bin's probed
+/// radii) by a quarter of their spread.
+#[derive(Debug, Clone)]
+pub struct SharedPupil {
+    tables: Arc<PupilTables>,
+    /// The film the bounds' coordinates belong to, and the paraxial exit
+    /// pupil (z, mm from the first vertex).
+    z_ref: f64,
+    z_xp: Option<f64>,
+    /// The films bounded, mm behind the last vertex (least, greatest).
+    films_mm: (f64, f64),
+    /// What the bounds were made for: the lens's stop, the sensor, the
+    /// aperture shape.
+    stop_sd: f64,
+    sensor: [f64; 2],
+    aperture: Aperture,
+    surfaces: usize,
+    last_vertex_z: f64,
+}
+
+impl SharedPupil {
+    /// Bounds for `p` (as the camera gets it, before focusing) with films
+    /// from `films_mm.0` to `films_mm.1` mm behind its last vertex.
+    pub fn new(p: &Prescription, aperture: &Aperture, sensor: [f64; 2], films_mm: (f64, f64)) -> Self {
+        let (lo, hi) = (films_mm.0.min(films_mm.1), films_mm.0.max(films_mm.1));
+        let z = p.last_vertex_z();
+        let z_films = [z + lo, z + 0.5 * (lo + hi), z + hi];
+        let z_ref = z_films[1];
+        let z_xp = lens::paraxial::FirstOrder::of(p).ok().and_then(|f| f.exit_pupil).map(|x| x.z);
+        let half_diag = 0.5 * (sensor[0].hypot(sensor[1]));
+        let tables = PupilTables::build(p, aperture, &z_films, z_ref, z, half_diag, &bounded_ends(p));
+        SharedPupil {
+            z_ref,
+            z_xp,
+            tables: Arc::new(tables),
+            films_mm: (lo, hi),
+            stop_sd: p.stop_semi_diameter(),
+            sensor,
+            aperture: aperture.clone(),
+            surfaces: p.surfaces().len(),
+            last_vertex_z: z,
+        }
+    }
+
+    /// Whether these bounds serve a camera of `p`, `aperture` and `sensor`
+    /// with its film `film_mm` behind the last vertex.
+    fn holds(&self, p: &Prescription, aperture: &Aperture, sensor: [f64; 2], film_mm: f64) -> bool {
+        let slack = 1e-9 * film_mm.abs().max(1.0);
+        p.stop_semi_diameter() == self.stop_sd
+            && p.surfaces().len() == self.surfaces
+            && p.last_vertex_z() == self.last_vertex_z
+            && sensor == self.sensor
+            && *aperture == self.aperture
+            && film_mm >= self.films_mm.0 - slack
+            && film_mm <= self.films_mm.1 + slack
+    }
+}
+
 /// Camera samples traced together per batch.
 const BATCH: usize = 4096;
 
@@ -152,18 +232,21 @@ impl RealLensCamera {
             return Err(CameraError::Tilted);
         }
         let film = lens::paraxial::film_for_focus_from_film(p, focus_m * 1e3)?;
-        Self::with_film_distance(frame, p, film, sensor, aperture)
+        Self::with_film_distance(frame, p, film, sensor, aperture, None)
     }
 
     /// Builds the camera with its film `film_mm` behind the last vertex
     /// (autofocus's real-ray best focus), then bounds the exit pupil as
-    /// [`Self::new`] does.
+    /// [`Self::new`] does, or takes the bounds `shared` by a frame
+    /// sequence when they were made for this lens, stop and sensor and
+    /// their films hold this one.
     pub fn with_film_distance(
         frame: Frame,
         p: &Prescription,
         film_mm: f64,
         sensor: [f64; 2],
         aperture: Aperture,
+        shared: Option<&SharedPupil>,
     ) -> Result<Self, CameraError> {
         if !(sensor[0] > 0.0 && sensor[1] > 0.0 && sensor[0].is_finite() && sensor[1].is_finite()) {
             return Err(CameraError::Sensor { width: sensor[0], height: sensor[1] });
@@ -171,6 +254,8 @@ impl RealLensCamera {
         if p.is_tilted() {
             return Err(CameraError::Tilted);
         }
+        let shared =
+            shared.filter(|s| s.holds(p, &aperture, sensor, film_mm)).map(|s| (s.tables.clone(), s.z_ref, s.z_xp));
         let p = p.with_film_distance(film_mm)?;
         let z_film = p.total_track();
         let z_rear = p.last_vertex_z();
@@ -178,19 +263,13 @@ impl RealLensCamera {
         let trace = LensTrace::new(&p, &aperture);
         let back = LensTrace::new_forward(&p, &aperture);
         let stop_sd = p.stop_semi_diameter();
-        // a spectral render samples at most 360-830 nm, within the glasses'
-        // data: the bounds hold both ends
-        let ends: Vec<f64> = if p.is_dispersive() {
-            let (lo, hi) = crate::spectrum::cie::range_through(p.glasses());
-            if lo < hi {
-                vec![lo, hi]
-            } else {
-                vec![]
+        let (tables, pupil_scale) = match shared {
+            Some((t, z_ref, z_xp)) => (t, super::pupil::pupil_scale(z_ref, z_film, z_rear, z_xp)),
+            None => {
+                let t = PupilTables::build(&p, &aperture, &[z_film], z_film, z_rear, half_diag, &bounded_ends(&p));
+                (Arc::new(t), 1.0)
             }
-        } else {
-            vec![]
         };
-        let tables = PupilTables::build(&p, &aperture, z_film, z_rear, half_diag, &ends);
         let mut cam = RealLensCamera {
             frame,
             trace,
@@ -204,6 +283,7 @@ impl RealLensCamera {
             aperture,
             norm: 1.0,
             lamps: RealLampAim::default(),
+            pupil_scale,
         };
         let centre = cam.mean_weight_at_centre();
         if !(centre.is_finite() && centre > 0.0) {
@@ -278,21 +358,41 @@ impl RealLensCamera {
         let fy = -(0.5 - s.film.1) * self.sensor[1];
         let film = DVec3::new(fx, fy, self.z_film);
         if self.lamps.is_on() {
-            let area = self.tables.area_at(fx, fy)?;
+            let area = self.pupil_area(fx, fy)?;
             let seen = self.lamps.seen(fx, fy, area, s.wavelength_nm);
             if !seen.is_empty() {
                 let a = s.aperture;
                 let r = if a.0 < SHARE {
                     self.lamps.draw(&seen, fx, fy, (a.0 / SHARE, a.1))?
                 } else {
-                    let (_, (bx, by)) = self.tables.sample(fx, fy, ((a.0 - SHARE) / (1.0 - SHARE), a.1))?;
+                    let (_, (bx, by)) = self.pupil_sample(fx, fy, ((a.0 - SHARE) / (1.0 - SHARE), a.1))?;
                     DVec2::new(bx, by)
                 };
                 return Some((film, DVec3::new(r.x, r.y, self.z_rear), self.mixture(&seen, area, fx, fy, r)));
             }
         }
-        let (area, (bx, by)) = self.tables.sample(fx, fy, s.aperture)?;
+        let (area, (bx, by)) = self.pupil_sample(fx, fy, s.aperture)?;
         Some((film, DVec3::new(bx, by, self.z_rear), area))
+    }
+
+    /// The area (mm^2 of the rear plane) of the region targets are drawn
+    /// from at film point (fx, fy): the pupil bounds' own, scaled for this
+    /// film ([`super::pupil::pupil_scale`]).
+    fn pupil_area(&self, fx: f64, fy: f64) -> Option<f64> {
+        let k = self.pupil_scale;
+        self.tables.area_at(fx, fy).map(|a| if k == 1.0 { a } else { a * k * k })
+    }
+
+    /// A target drawn uniformly from the pupil bounds at film point (fx,
+    /// fy), scaled for this film, and the area of the region it was drawn
+    /// from (see [`Self::pupil_area`]).
+    fn pupil_sample(&self, fx: f64, fy: f64, a: (f64, f64)) -> Option<(f64, (f64, f64))> {
+        let (area, (bx, by)) = self.tables.sample(fx, fy, a)?;
+        let k = self.pupil_scale;
+        if k == 1.0 {
+            return Some((area, (bx, by)));
+        }
+        Some((area * k * k, (fx + (bx - fx) * k, fy + (by - fy) * k)))
     }
 
     /// The inverse of the density (per mm^2 of the rear plane) with which
@@ -301,7 +401,7 @@ impl RealLensCamera {
     /// what a wavelength's lane needs for the balance heuristic. `None`
     /// where no ray passes from there.
     fn inverse_density(&self, fx: f64, fy: f64, r: DVec2, nm: Option<f64>) -> Option<f64> {
-        let area = self.tables.area_at(fx, fy)?;
+        let area = self.pupil_area(fx, fy)?;
         if self.lamps.is_on() {
             let seen = self.lamps.seen(fx, fy, area, nm);
             if !seen.is_empty() {

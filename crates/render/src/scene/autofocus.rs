@@ -9,7 +9,7 @@
 //! focus` finds it), not the paraxial focus.
 
 use super::format::{CameraSpec, FilmSpec, FocusOn};
-use super::{camera, v3, FieldError};
+use super::{camera, v3, FieldError, Given};
 use crate::camera::{Camera, Frame};
 use crate::geometry::{Ray, Shape};
 use glam::DVec3;
@@ -47,7 +47,7 @@ pub(crate) fn autofocus(
     spec: &CameraSpec,
     film: &FilmSpec,
     dir: &Path,
-    given: Option<&lens::Prescription>,
+    given: &Given,
     target: &FocusOn,
     shapes: &[Shape],
     named: &[(String, Range<usize>)],
@@ -164,7 +164,7 @@ fn build(
     spec: &CameraSpec,
     film: &FilmSpec,
     dir: &Path,
-    given: Option<&lens::Prescription>,
+    given: &Given,
     film_mm: Option<f64>,
     distance: Option<f64>,
 ) -> Result<Camera, Problem> {
@@ -178,12 +178,7 @@ fn build(
 /// that point (fixed-point iteration: the object distance from the first
 /// vertex depends on the film), and `depth` itself as the camera's focus
 /// distance.
-fn real_focus(
-    spec: &CameraSpec,
-    dir: &Path,
-    given: Option<&lens::Prescription>,
-    depth: f64,
-) -> Result<(f64, f64), Problem> {
+fn real_focus(spec: &CameraSpec, dir: &Path, given: &Given, depth: f64) -> Result<(f64, f64), Problem> {
     let optics = |e: lens::OpticsError| -> Problem { (FIELD.to_string(), e.into()) };
     let p = camera::load_lens(spec, dir, given)?;
     let z_last = p.last_vertex_z();

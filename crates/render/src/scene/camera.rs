@@ -5,7 +5,7 @@
 //! film).
 
 use super::format::*;
-use super::{v3, FieldError};
+use super::{v3, FieldError, Given};
 use crate::camera::aperture::Aperture;
 use crate::camera::{real_lens::RealLensCamera, Camera, Frame, ThinGlass};
 use glam::DVec3;
@@ -51,15 +51,11 @@ fn given_focus(c: &CameraSpec) -> Result<f64, (String, FieldError)> {
 /// A real lens camera's prescription as the scene asks for it: loaded,
 /// its stop resized for `f_number` or `stop_semi_diameter`, not yet
 /// focused.
-pub(super) fn load_lens(
-    c: &CameraSpec,
-    dir: &Path,
-    given: Option<&lens::Prescription>,
-) -> Result<lens::Prescription, (String, FieldError)> {
+pub(super) fn load_lens(c: &CameraSpec, dir: &Path, given: &Given) -> Result<lens::Prescription, (String, FieldError)> {
     let CameraSpec::Lens { prescription, f_number, stop_semi_diameter, .. } = c else {
         return Err(("camera.type".into(), "not a real lens camera".into()));
     };
-    let mut lens = match given {
+    let mut lens = match given.lens {
         Some(p) => p.clone(),
         None => lens::Prescription::load(dir.join(prescription))
             .map_err(|e| ("camera.prescription".to_string(), e.into()))?,
@@ -74,15 +70,15 @@ pub(super) fn load_lens(
     Ok(lens)
 }
 
-/// The camera of the scene file (a real lens's prescription `given`, or
-/// loaded from its file); `film_mm` places a real lens's film
+/// The camera of the scene file (a real lens's prescription as `given`, or
+/// loaded from its file; its pupil bounds as `given`, or made); `film_mm` places a real lens's film
 /// (mm behind its last vertex: autofocus's real-ray best focus) instead of
 /// focusing it paraxially on `focus_distance`.
 pub(super) fn build_camera(
     c: &CameraSpec,
     film: &FilmSpec,
     dir: &Path,
-    given: Option<&lens::Prescription>,
+    given: &Given,
     film_mm: Option<f64>,
 ) -> Result<Camera, (String, FieldError)> {
     if c.focus_distance().is_some() && c.focus_on().is_some() && film_mm.is_none() {
@@ -180,11 +176,16 @@ pub(super) fn build_camera(
             let aperture =
                 Aperture::from_spec(aperture_shape, dir).map_err(|e| ("camera.aperture_shape".into(), e.into()))?;
             let frame = pose(&c.pose())?;
-            let cam = match film_mm {
-                Some(f) => RealLensCamera::with_film_distance(frame, &lens, f, *sensor_mm, aperture),
-                None => RealLensCamera::new(frame, &lens, given_focus(c)?, *sensor_mm, aperture),
+            if lens.is_tilted() {
+                return Err(("camera".to_string(), FieldError::Camera(crate::camera::CameraError::Tilted)));
             }
-            .map_err(|e| ("camera".to_string(), e.into()))?;
+            let film = match film_mm {
+                Some(f) => f,
+                None => lens::paraxial::film_for_focus_from_film(&lens, given_focus(c)? * 1e3)
+                    .map_err(|e| ("camera".to_string(), FieldError::Camera(e.into())))?,
+            };
+            let cam = RealLensCamera::with_film_distance(frame, &lens, film, *sensor_mm, aperture, given.pupil)
+                .map_err(|e| ("camera".to_string(), e.into()))?;
             Ok(Camera::Real(Box::new(cam)))
         }
     }

@@ -125,6 +125,18 @@ impl From<&str> for FieldError {
     }
 }
 
+/// What a frame sequence gives each frame's scene beyond its file.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Given<'a> {
+    /// A real lens camera's prescription in place of its file (a zoom
+    /// between its listed positions); its `f_number` and
+    /// `stop_semi_diameter` still apply.
+    pub lens: Option<&'a lens::Prescription>,
+    /// Exit-pupil bounds shared by the frames (used where they were made
+    /// for the camera's lens, stop, sensor and film).
+    pub pupil: Option<&'a crate::camera::real_lens::SharedPupil>,
+}
+
 /// What rays that leave the scene see.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Background {
@@ -279,18 +291,23 @@ impl Scene {
 
     /// Builds a scene from its parsed file; `dir` resolves relative paths.
     pub fn build(file: SceneFile, dir: &Path, name: &str) -> Result<Scene, SceneError> {
-        Scene::build_with_lens(file, dir, name, None)
+        Scene::build_given(file, dir, name, &Given::default())
     }
 
-    /// [`Self::build`] with a real lens camera's prescription given in
-    /// place of its file (a zoom between its listed positions); its
-    /// `f_number` and `stop_semi_diameter` still apply.
-    pub fn build_with_lens(
-        file: SceneFile,
-        dir: &Path,
-        name: &str,
-        lens: Option<&lens::Prescription>,
-    ) -> Result<Scene, SceneError> {
+    /// A real lens camera's prescription as the scene file asks for it
+    /// (loaded, its stop resized), before it is focused; errors name the
+    /// field.
+    pub fn camera_lens(spec: &CameraSpec, dir: &Path, name: &str) -> Result<lens::Prescription, SceneError> {
+        camera::load_lens(spec, dir, &Given::default()).map_err(|(field, source)| SceneError::Invalid {
+            path: name.to_string(),
+            field,
+            source,
+        })
+    }
+
+    /// [`Self::build`] with what a frame sequence prepared once for all its
+    /// frames ([`Given`]).
+    pub fn build_given(file: SceneFile, dir: &Path, name: &str, given: &Given) -> Result<Scene, SceneError> {
         let inputs = referenced_files(&file, dir);
         let bad = |field: String, message: String| SceneError::Invalid {
             path: name.to_string(),
@@ -539,13 +556,14 @@ impl Scene {
                     "give focus_distance or focus_on, not both (autofocus finds the distance)".into(),
                 )));
             }
-            let a = autofocus::autofocus(&file.camera, &file.film, dir, lens, &on, &shapes, &named).map_err(invalid)?;
+            let a =
+                autofocus::autofocus(&file.camera, &file.film, dir, given, &on, &shapes, &named).map_err(invalid)?;
             file.camera.set_focus(Some(a.distance_m), None);
             film_mm = a.film_mm;
             focus_note = Some(a.note);
         }
         let f = &file.film;
-        let mut camera = camera::build_camera(&file.camera, f, dir, lens, film_mm).map_err(invalid)?;
+        let mut camera = camera::build_camera(&file.camera, f, dir, given, film_mm).map_err(invalid)?;
         let spheres: Vec<(DVec3, f64)> = (0..shapes.len())
             .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }))
             .filter_map(|i| match shapes[i] {

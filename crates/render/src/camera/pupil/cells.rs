@@ -1,10 +1,10 @@
 //! Cell bounds: a grid over the passing region's box, edge cells split, for
 //! regions that are not star-shaped (see the module above).
 
-use super::{passing_box, Probe, PupilBounds, CELLS, SUB};
+use super::{passing_box, FilmPoint, Probe, PupilBounds, CELLS, SUB};
 
 /// The cells of one bin (see the module's description).
-pub(super) fn cells_bin(probe: &Probe, radii: &[f64], rear: f64) -> PupilBounds {
+pub(super) fn cells_bin(probe: &Probe, radii: &[FilmPoint], rear: f64) -> PupilBounds {
     let Some(b) = passing_box(probe, radii, rear) else { return PupilBounds::Empty };
     let side = (b[1] - b[0]).max(b[3] - b[2]);
     let (x0, y0) = (b[0], b[2]);

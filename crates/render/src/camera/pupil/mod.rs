@@ -36,6 +36,13 @@
 //! (uniform over the region), so the estimator is unbiased as long as the
 //! region contains every passing target, which the growth margins see to.
 //!
+//! A frame sequence's focus pull shares one set of bounds over its films:
+//! the probes go from film points at the ends and middle of the pull (each
+//! a "film radius" of the bin, so the growth for the radii between them
+//! covers the films between them too), in the coordinates of the middle
+//! film; a film elsewhere sees a target scaled about its film point by
+//! [`pupil_scale`], which keeps the ray's point in the paraxial exit pupil.
+//!
 //! A lens with glasses passes a slightly different region at each
 //! wavelength: a probe counts as passing when it passes at the primary
 //! wavelength or at either end of the range a spectral render samples, so
@@ -58,6 +65,9 @@ use star::star_bin;
 
 /// A point of the rear plane or the stop, mm.
 pub(super) type Point = (f64, f64);
+/// A film point probed: its distance from the axis (on +x) and the film's
+/// z, mm (a frame sequence bounds several film positions at once).
+pub(super) type FilmPoint = (f64, f64);
 /// A box: x min, x max, y min, y max, mm.
 pub(super) type Bounds = [f64; 4];
 
@@ -137,8 +147,11 @@ pub(super) struct Probe {
     others: Vec<Tracer>,
     to_stop: Tracer,
     rest: Option<Tracer>,
-    z_film: f64,
     z_rear: f64,
+    /// The film the bounds' coordinates belong to (mm from the first
+    /// vertex) and the paraxial exit pupil's z: see [`pupil_scale`].
+    z_ref: f64,
+    z_xp: Option<f64>,
     /// The paraxial exit pupil (z, radius), mm: where a small stop's rays
     /// go, for finding them when the probes across the rear element are
     /// too coarse.
@@ -146,14 +159,16 @@ pub(super) struct Probe {
 }
 
 impl Probe {
-    /// Fills `batch` with rays from the film point at radius `r` (on +x)
-    /// toward each target on the rear plane.
-    fn aim(&self, r: f64, targets: &[(f64, f64)], batch: &mut RayBatch) {
+    /// Fills `batch` with rays from the film point `(r, z)` (on +x, the
+    /// film at z) toward each target on the rear plane.
+    fn aim(&self, (r, z_film): FilmPoint, targets: &[(f64, f64)], batch: &mut RayBatch) {
         batch.clear();
-        let dz = self.z_rear - self.z_film;
-        let origin = DVec3::new(r, 0.0, self.z_film);
+        let dz = self.z_rear - z_film;
+        let origin = DVec3::new(r, 0.0, z_film);
+        let k = pupil_scale(self.z_ref, z_film, self.z_rear, self.z_xp);
         for &(x, y) in targets {
-            let d = DVec3::new(x - r, y, dz);
+            // a target of the bounds' film, scaled for this film
+            let d = DVec3::new((x - r) * k, y * k, dz);
             let len = d.length();
             if len > 0.0 && len.is_finite() {
                 batch.push(lens::Ray { origin, direction: d / len });
@@ -163,12 +178,12 @@ impl Probe {
         }
     }
 
-    /// For every film radius in `radii` (film point on +x) and target in
-    /// `targets`: the stop point (mm, lens frame) where the ray passes,
-    /// indexed `[radius][target]`.
-    pub(super) fn stop_points(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<Vec<Option<(f64, f64)>>> {
+    /// For every film point of `points` and target in `targets`: the stop
+    /// point (mm, lens frame) where the ray passes, indexed
+    /// `[point][target]`.
+    pub(super) fn stop_points(&self, points: &[FilmPoint], targets: &[(f64, f64)]) -> Vec<Vec<Option<(f64, f64)>>> {
         let mut batch = RayBatch::with_capacity(targets.len());
-        radii
+        points
             .iter()
             .map(|&r| {
                 self.aim(r, targets, &mut batch);
@@ -182,11 +197,11 @@ impl Probe {
             .collect()
     }
 
-    /// Whether the ray toward each target passes, for each film radius of
-    /// `radii` (film points on +x), indexed `[radius][target]`.
-    pub(super) fn passes_each(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<Vec<bool>> {
+    /// Whether the ray toward each target passes, for each film point of
+    /// `points`, indexed `[point][target]`.
+    pub(super) fn passes_each(&self, points: &[FilmPoint], targets: &[(f64, f64)]) -> Vec<Vec<bool>> {
         let mut batch = RayBatch::with_capacity(targets.len());
-        radii
+        points
             .iter()
             .map(|&r| {
                 let mut pass = vec![false; targets.len()];
@@ -196,9 +211,15 @@ impl Probe {
             .collect()
     }
 
-    /// Calls `passed(i)` for each target `i` whose ray from film radius
+    /// Calls `passed(i)` for each target `i` whose ray from film point
     /// `r` passes at any of the bounded wavelengths.
-    fn each_wavelength(&self, r: f64, targets: &[(f64, f64)], batch: &mut RayBatch, mut passed: impl FnMut(usize)) {
+    fn each_wavelength(
+        &self,
+        r: FilmPoint,
+        targets: &[(f64, f64)],
+        batch: &mut RayBatch,
+        mut passed: impl FnMut(usize),
+    ) {
         for tracer in std::iter::once(&self.whole).chain(&self.others) {
             self.aim(r, targets, batch);
             tracer.trace_soa(batch);
@@ -210,12 +231,12 @@ impl Probe {
         }
     }
 
-    /// Whether the ray toward each target passes from any film radius of
-    /// `radii` (film points on +x).
-    pub(super) fn passes(&self, radii: &[f64], targets: &[(f64, f64)]) -> Vec<bool> {
+    /// Whether the ray toward each target passes from any film point of
+    /// `points`.
+    pub(super) fn passes(&self, points: &[FilmPoint], targets: &[(f64, f64)]) -> Vec<bool> {
         let mut batch = RayBatch::with_capacity(targets.len());
         let mut any = vec![false; targets.len()];
-        for &r in radii {
+        for &r in points {
             self.each_wavelength(r, targets, &mut batch, |i| any[i] = true);
         }
         any
@@ -223,19 +244,28 @@ impl Probe {
 }
 
 impl PupilTables {
-    /// Bounds the exit pupil of the focused prescription `p` for film
-    /// points up to `half_diag` mm from the centre, the bins in parallel,
-    /// at its primary wavelength and at each of `wavelengths_nm`.
+    /// Bounds the exit pupil of the prescription `p` for film points up
+    /// to `half_diag` mm from the centre, the bins in parallel, at its
+    /// primary wavelength and at each of `wavelengths_nm`, for a film at
+    /// each of `z_films` (mm from the first vertex) and between them (a
+    /// frame sequence's focus pull shares one set of bounds, so a sample
+    /// is aimed alike in every frame; a still has one film). The bounds
+    /// are in the coordinates of the film at `z_ref`: a film elsewhere
+    /// scales them by [`pupil_scale`].
     pub(crate) fn build(
         p: &Prescription,
         aperture: &Aperture,
-        z_film: f64,
+        z_films: &[f64],
+        z_ref: f64,
         z_rear: f64,
         half_diag: f64,
         wavelengths_nm: &[f64],
     ) -> Self {
         let (stop, n) = (p.stop_index(), p.surfaces().len());
+        let z_xp = lens::paraxial::FirstOrder::of(p).ok().and_then(|f| f.exit_pupil).map(|x| x.z);
         let probe = Probe {
+            z_ref,
+            z_xp,
             whole: Tracer::reverse(p),
             others: wavelengths_nm
                 .iter()
@@ -244,13 +274,12 @@ impl PupilTables {
                 .collect(),
             to_stop: Tracer::reverse_range(p, stop..n),
             rest: (stop > 0).then(|| Tracer::reverse_range(p, 0..stop)),
-            z_film,
             z_rear,
             exit_pupil: lens::paraxial::FirstOrder::of(p)
                 .ok()
                 .and_then(|f| f.exit_pupil)
                 .map(|x| (x.z, x.diameter / 2.0))
-                .filter(|x| x.0.is_finite() && x.1 > 0.0 && (x.0 - z_film).abs() > 0.0),
+                .filter(|x| x.0.is_finite() && x.1 > 0.0 && z_films.iter().all(|z| (x.0 - z).abs() > 0.0)),
         };
         let stop_sd = p.stop_semi_diameter();
         let rear = p.surfaces().iter().rev().find_map(|x| x.semi_diameter).unwrap_or(stop_sd) * 1.5;
@@ -259,8 +288,12 @@ impl PupilTables {
         let bins = (0..BINS)
             .into_par_iter()
             .map(|i| {
-                let radii: Vec<f64> =
-                    (0..RADII).map(|k| bin_width * (i as f64 + k as f64 / (RADII - 1) as f64)).collect();
+                let radii: Vec<FilmPoint> = (0..RADII)
+                    .flat_map(|k| {
+                        let r = bin_width * (i as f64 + k as f64 / (RADII - 1) as f64);
+                        z_films.iter().map(move |&z| (r, z))
+                    })
+                    .collect();
                 match &shaped {
                     None => star_bin(&probe, &radii, rear).unwrap_or_else(|| cells_bin(&probe, &radii, rear)),
                     Some((shape, sd)) => stop_bin(&probe, &radii, rear, shape, *sd),
@@ -358,12 +391,12 @@ impl PupilTables {
 /// The probes' box: targets on a `COARSE` grid over the rear element, and
 /// the box of those through which any of `radii` passes, grown by a probe
 /// step. `None` when nothing passes.
-pub(super) fn passing_box(probe: &Probe, radii: &[f64], rear: f64) -> Option<[f64; 4]> {
+pub(super) fn passing_box(probe: &Probe, radii: &[FilmPoint], rear: f64) -> Option<[f64; 4]> {
     passing_probes(probe, radii, rear).map(|(b, _)| b)
 }
 
 /// [`passing_box`] and the probe targets that passed.
-pub(super) fn passing_probes(probe: &Probe, radii: &[f64], rear: f64) -> Option<(Bounds, Vec<Point>)> {
+pub(super) fn passing_probes(probe: &Probe, radii: &[FilmPoint], rear: f64) -> Option<(Bounds, Vec<Point>)> {
     let step = 2.0 * rear / COARSE as f64;
     let mut targets: Vec<(f64, f64)> = (0..=COARSE)
         .flat_map(|j| (0..=COARSE).map(move |i| (-rear + step * i as f64, -rear + step * j as f64)))
@@ -371,9 +404,11 @@ pub(super) fn passing_probes(probe: &Probe, radii: &[f64], rear: f64) -> Option<
     // and a grid over the paraxial exit pupil as seen from each film radius,
     // projected on the rear plane (three times its size)
     if let Some((z_xp, r_xp)) = probe.exit_pupil {
-        let k = (probe.z_rear - probe.z_film) / (z_xp - probe.z_film);
-        for &r in radii {
-            let (cx, half) = (r + (0.0 - r) * k, 1.5 * r_xp * k.abs());
+        for &(r, z_film) in radii {
+            let k = (probe.z_rear - z_film) / (z_xp - z_film);
+            // in the bounds' coordinates
+            let back = 1.0 / pupil_scale(probe.z_ref, z_film, probe.z_rear, probe.z_xp);
+            let (cx, half) = (r + (0.0 - r) * k * back, 1.5 * r_xp * (k * back).abs());
             if !(cx.is_finite() && half.is_finite() && half > 0.0) {
                 continue;
             }
@@ -396,4 +431,28 @@ pub(super) fn passing_probes(probe: &Probe, radii: &[f64], rear: f64) -> Option<
     // grown by a probe step of whichever grid found the edge
     let grow = step.min((b[1] - b[0]).max(b[3] - b[2]).max(f64::MIN_POSITIVE));
     b[0].is_finite().then_some(([b[0] - grow, b[1] + grow, b[2] - grow, b[3] + grow], passed))
+}
+
+/// How a film at `z_film` sees bounds made in the coordinates of the film
+/// at `z_ref` (mm from the first vertex): a target t of the bounds, for a
+/// film point f, is aimed at f + (t - f) k on the rear plane (`z_rear`), so
+/// that the ray passes through the same point of the paraxial exit pupil
+/// (at `z_xp`) from either film: k is the ratio of the rear plane's
+/// distances along the rays to the pupil, (z_rear - z_film) / (z_xp -
+/// z_film) over the same at z_ref. A sample's aim then moves with the film
+/// the way the pupil's image does, and a ray near the edge of the passing
+/// region stays on its side from frame to frame. 1 (exactly) for the film
+/// the bounds were made at or a pupil at infinity; the region's area
+/// scales by k^2.
+pub(crate) fn pupil_scale(z_ref: f64, z_film: f64, z_rear: f64, z_xp: Option<f64>) -> f64 {
+    if z_film == z_ref {
+        return 1.0;
+    }
+    let Some(z_xp) = z_xp else { return 1.0 };
+    let k = ((z_rear - z_film) / (z_xp - z_film)) / ((z_rear - z_ref) / (z_xp - z_ref));
+    if k.is_finite() && k > 0.0 {
+        k
+    } else {
+        1.0
+    }
 }

@@ -4,11 +4,11 @@
 
 use super::fan::{clip, Fan};
 use super::star::star_fan;
-use super::{passing_box, Point, Probe, PupilBounds};
+use super::{passing_box, FilmPoint, Point, Probe, PupilBounds};
 use crate::camera::aperture::Aperture;
 
 /// The shaped-stop bounds of one bin (see the module's description).
-pub(super) fn stop_bin(probe: &Probe, radii: &[f64], rear: f64, shape: &Aperture, sd: f64) -> PupilBounds {
+pub(super) fn stop_bin(probe: &Probe, radii: &[FilmPoint], rear: f64, shape: &Aperture, sd: f64) -> PupilBounds {
     let Some(b) = passing_box(probe, radii, rear) else { return PupilBounds::Empty };
     let n = 24;
     let targets: Vec<(f64, f64)> = (0..=n)
@@ -55,7 +55,7 @@ const BUCKETS: usize = 64;
 /// contain the 256-corner polygon: each corner at the largest radius of
 /// the eight directions around it, over the cosine of half the angle
 /// between corners.
-fn round_stop_fan(probe: &Probe, radii: &[f64], rear: f64) -> Option<Fan> {
+fn round_stop_fan(probe: &Probe, radii: &[FilmPoint], rear: f64) -> Option<Fan> {
     let fine = star_fan(probe, radii, rear)?;
     let centre = fine.centre();
     let r: Vec<f64> = fine.corners().map(|p| (p[0] - centre[0]).hypot(p[1] - centre[1])).collect();

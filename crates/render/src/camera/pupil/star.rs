@@ -2,7 +2,7 @@
 //! its centroid, for the round stop (see the module above).
 
 use super::fan::Fan;
-use super::{passing_probes, Probe, PupilBounds};
+use super::{passing_probes, FilmPoint, Probe, PupilBounds};
 
 /// Directions of a star-shaped region's boundary.
 const DIRECTIONS: usize = 256;
@@ -12,12 +12,12 @@ const BISECTIONS: usize = 12;
 /// The star-shaped bounds of one bin (see the module's description), or
 /// `None` where the region is not star-shaped about the passing probes'
 /// centroid for every film radius of the bin (the cells take over).
-pub(super) fn star_bin(probe: &Probe, radii: &[f64], rear: f64) -> Option<PupilBounds> {
+pub(super) fn star_bin(probe: &Probe, radii: &[FilmPoint], rear: f64) -> Option<PupilBounds> {
     star_fan(probe, radii, rear).map(PupilBounds::Star)
 }
 
 /// The star-shaped polygon of [`star_bin`].
-pub(super) fn star_fan(probe: &Probe, radii: &[f64], rear: f64) -> Option<Fan> {
+pub(super) fn star_fan(probe: &Probe, radii: &[FilmPoint], rear: f64) -> Option<Fan> {
     let (b, passed) = passing_probes(probe, radii, rear)?;
     let n = passed.len() as f64;
     let c = passed.iter().fold((0.0, 0.0), |a, p| (a.0 + p.0 / n, a.1 + p.1 / n));

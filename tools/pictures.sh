@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates every picture in docs/pictures/ with the release build of the
 # `lens` command: the analysis plots, the studies (lens-data/studies/), the
-# star bokeh render and the spectral pictures (the last needs Pillow, as
+# star bokeh render, the focus pull and the spectral pictures (the last needs Pillow, as
 # tools/spectral_pictures.py says). Takes about ten minutes on two cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,6 +39,20 @@ for b in achromat-doublet-100mm:0,1,2 cooke-triplet:0,10,20 double-gauss-50mm:0,
   $lens layout "lens-data/${b%%:*}.json" --fields "${b##*:}" -o "$out/lenses/${b%%:*}.png"
 done
 $lens render lens-data/scenes/bokeh-thin-star.json -o $out/bokeh-star.png --width 960 --height 600
+# the focus pull's first, middle and last frames side by side (Pillow)
+pull=$(mktemp -d)
+$lens animate lens-data/scenes/focus-pull-portrait.json -o "$pull/f%d.png" --spp 32 --frames 3 2> /dev/null
+python3 - "$pull" "$out/focus-pull.png" <<'PY'
+import sys
+from PIL import Image
+frames = [Image.open(f"{sys.argv[1]}/f{k}.png").convert("RGB") for k in range(3)]
+w, h = frames[0].size
+strip = Image.new("RGB", (3 * w + 8, h), "white")
+for k, f in enumerate(frames):
+    strip.paste(f, (k * (w + 4), 0))
+strip.save(sys.argv[2])
+PY
+rm -rf "$pull"
 # error against run time of the three cameras (docs/render-report/)
 for c in pinhole thin-lens real-lens; do
   $lens render lens-data/scenes/report-$c.json -o docs/render-report/$c-reference.png --spp 64 \

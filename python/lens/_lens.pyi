@@ -2,7 +2,7 @@
 ``mypy.stubtest`` in the tests)."""
 
 import os
-from typing import Any, Optional, Union, final
+from typing import Any, Optional, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -179,6 +179,7 @@ def render(
     aperture_shape: Optional[str] = None,
     prescription: Optional[_Path] = None,
     threads: Optional[int] = None,
+    focus_on: Optional[Union[str, Tuple[float, float]]] = None,
 ) -> npt.NDArray[np.float32]: ...
 def _tolerance_share(
     spec: str,

@@ -24,3 +24,24 @@ def test_one_side_keeps_the_scenes_aspect():
     # the scene's film is 480 x 300; the width alone scales the height
     img = lens.render("lens-data/scenes/bokeh-double-gauss.json", width=96, spp=1)
     assert img.shape == (60, 96, 3)
+
+
+def test_focus_on_a_pixel():
+    # autofocus on a ball in the foreground: another picture than the far focus;
+    # a pixel on the background and an unknown name are refused by field
+    near = lens.render("lens-data/scenes/dof-study.json", width=32, height=18, spp=1, focus_on=(16, 10))
+    far = lens.render("lens-data/scenes/dof-study.json", width=32, height=18, spp=1, focus_distance=30.0)
+    assert near.shape == (18, 32, 3) and not np.array_equal(near, far)
+    for bad in [(16, 0), "no such shape"]:
+        try:
+            lens.render("lens-data/scenes/dof-study.json", width=32, height=18, spp=1, focus_on=bad)
+        except lens.RenderError as e:
+            assert "camera.focus_on" in str(e)
+        else:
+            raise AssertionError(f"focus_on={bad!r} was rendered")
+    try:
+        lens.render("lens-data/scenes/dof-study.json", focus_on=(1, 2), focus_distance=3.0)
+    except ValueError as e:
+        assert "not both" in str(e)
+    else:
+        raise AssertionError("both were taken")

@@ -17,10 +17,12 @@ const MAX_SPP: u32 = 1 << 20;
 /// `seed`, `camera` ("pinhole", "thin-lens", "lens"), `f_number`,
 /// `aperture` (m), `focal_length_mm`, `focus_distance` (m), `focus_shift`
 /// (mm), `aperture_shape`, `prescription` (a lens file for the camera);
-/// `threads` (None: every core). Scene warnings become `UserWarning`s.
+/// `threads` (None: every core); `focus_on` (autofocus: a shape's name, or
+/// a pixel `(column, row)` from the top left, as `--focus-on`). Scene
+/// warnings become `UserWarning`s.
 #[pyfunction]
 #[pyo3(signature = (scene, width=None, height=None, spp=None, seed=1, camera=None, f_number=None, aperture=None,
-    focal_length_mm=None, focus_distance=None, focus_shift=None, aperture_shape=None, prescription=None, threads=None))]
+    focal_length_mm=None, focus_distance=None, focus_shift=None, aperture_shape=None, prescription=None, threads=None, focus_on=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -38,6 +40,7 @@ pub fn render<'py>(
     aperture_shape: Option<&str>,
     prescription: Option<std::path::PathBuf>,
     threads: Option<usize>,
+    focus_on: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     use ::render::scene::{CameraKind, Overrides};
     let camera = match camera.map(str::to_ascii_lowercase).as_deref() {
@@ -53,6 +56,21 @@ pub fn render<'py>(
         Some(s) => Some(Overrides::parse_shape(s).map_err(|e| PyValueError::new_err(format!("aperture_shape: {e}")))?),
         None => None,
     };
+    let focus_on = match focus_on {
+        None => None,
+        Some(v) => Some(match v.extract::<String>() {
+            Ok(name) => ::render::scene::format::FocusOn::Shape(name),
+            Err(_) => {
+                let (x, y) = v.extract::<(f64, f64)>().map_err(|_| {
+                    PyValueError::new_err("focus_on: give a shape's name (str) or a pixel (column, row)")
+                })?;
+                ::render::scene::format::FocusOn::Pixel([x, y])
+            }
+        }),
+    };
+    if focus_on.is_some() && focus_distance.is_some() {
+        return Err(PyValueError::new_err("give focus_distance or focus_on, not both"));
+    }
     let overrides = Overrides {
         width,
         height,
@@ -62,7 +80,7 @@ pub fn render<'py>(
         f_number,
         focal_length_mm,
         focus_distance,
-        focus_on: None,
+        focus_on,
         focus_shift,
         aperture_shape,
         prescription,

@@ -268,6 +268,16 @@ pub enum OpticsError {
         /// First vertex to film, mm, at the last focus tried.
         lens_length: f64,
     },
+    /// The focus group cannot move that far: a gap beside it would close.
+    #[error("the focus group cannot move {} mm: the gaps before and after it are {} and {} mm; focus farther away", num(*shift), num(*before), num(*after))]
+    FocusGroupTravel {
+        /// The shift asked for, mm toward the image.
+        shift: f64,
+        /// The gap before the group, mm, as designed.
+        before: f64,
+        /// The gap after the group, mm, as designed.
+        after: f64,
+    },
     /// The stop is imaged at infinity on one side (telecentric), so that pupil
     /// has no finite position.
     #[error("the {which} pupil is at infinity (the system is telecentric in {which} space)")]

@@ -213,6 +213,10 @@ impl Animation {
             return Ok(None);
         }
         let p = Scene::camera_lens(&self.file.camera, &self.dir, &self.name)?;
+        if p.focus_group().is_some() {
+            // the group moves from frame to frame: another lens each time
+            return Ok(None);
+        }
         let Ok(aperture) = Aperture::from_spec(aperture_shape, &self.dir) else { return Ok(None) };
         let mut films = (f64::INFINITY, f64::NEG_INFINITY);
         for k in 0..self.frames {

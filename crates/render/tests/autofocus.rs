@@ -124,3 +124,48 @@ fn bad_targets_say_what_to_change() {
     let e = build(&with(THIN, r#""wall""#)).map(|s| s.camera_summary).unwrap();
     assert!(e.contains("autofocus on the shape \"wall\", 20 m from the lens"), "{e}");
 }
+
+/// A lens that names a focus group focuses by moving it, the film staying:
+/// on a focus distance paraxially, on autofocus at the real-ray best focus
+/// (the lens crate's best focus of the moved lens on the unmoved film,
+/// 1e-9 mm).
+#[test]
+fn a_focus_group_moves_instead_of_the_film() {
+    let dir = std::env::temp_dir().join(format!("lens-focus-group-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(data().join("../double-gauss-50mm.json")).unwrap();
+    let mut spec: serde_json::Value = serde_json::from_str(&text).unwrap();
+    spec["focus_group"] = serde_json::json!([3, 5]);
+    let lens_path = dir.join("dg.json");
+    std::fs::write(&lens_path, spec.to_string()).unwrap();
+    let designed = lens::Prescription::load(&lens_path).unwrap();
+    let camera = |focus: &str| {
+        format!(
+            r#"{{"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "{}",
+                "sensor_mm": [36, 27], {focus}}}"#,
+            lens_path.display()
+        )
+    };
+    for focus in [r#""focus_distance": 2"#, r#""focus_on": "ball""#] {
+        let s = build(&scene(&camera(focus))).unwrap();
+        let Camera::Real(real) = &s.camera else { panic!() };
+        let p = real.prescription();
+        assert_eq!(p.film_distance(), designed.film_distance(), "{focus}: the film stays");
+        assert!((p.total_track() - designed.total_track()).abs() < 1e-12);
+        let moved = p.surfaces()[1].thickness - designed.surfaces()[1].thickness;
+        assert!(moved > 1.0, "{focus}: the group moved {moved} mm");
+        if focus.contains("focus_on") {
+            let c = glam::DVec3::new(0.3, 0.0, 3.0);
+            let depth = (c - c.normalize() * 0.2).z;
+            let object = depth * 1e3 - p.total_track();
+            let best = lens::analysis::focus::focus(p, lens::paraxial::ObjectDistance::Finite(object)).unwrap();
+            assert!((best.best_focus_film_distance - p.film_distance()).abs() < 1e-9);
+            assert!(s.camera_summary.contains("focus group moved"), "{}", s.camera_summary);
+        } else {
+            let object = 2000.0 - p.total_track();
+            let image = lens::paraxial::film_distance(p, lens::paraxial::ObjectDistance::Finite(object)).unwrap();
+            assert!((image - p.film_distance()).abs() < 1e-9);
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -48,6 +48,9 @@ pub struct Prescription {
     /// Elements moved as rigid bodies, as written (validated: in range,
     /// not overlapping).
     elements: Vec<ElementSpec>,
+    /// The focus group's first and last surfaces, 0-based (validated:
+    /// a gap before and after it).
+    focus_group: Option<(usize, usize)>,
 }
 
 impl Prescription {
@@ -140,6 +143,7 @@ impl Prescription {
             object_distance_mm: spec.object_distance_mm,
             warnings,
             elements: spec.elements.clone().unwrap_or_default(),
+            focus_group: spec.focus_group.map(|[a, b]| (a - 1, b - 1)),
         })
     }
 
@@ -297,6 +301,7 @@ impl Prescription {
             object_distance_mm: self.object_distance_mm,
             warnings: Vec::new(),
             elements: (!self.elements.is_empty()).then(|| self.elements.clone()),
+            focus_group: self.focus_group.map(|(a, b)| [a + 1, b + 1]),
             surfaces: self
                 .surfaces
                 .iter()
@@ -338,6 +343,38 @@ impl Prescription {
                 })
                 .collect(),
         }
+    }
+
+    /// The focus group's first and last surfaces, 0-based (`None`: the
+    /// lens focuses as a whole).
+    pub fn focus_group(&self) -> Option<(usize, usize)> {
+        self.focus_group
+    }
+
+    /// The prescription with its focus group moved `shift_mm` toward the
+    /// image (the gap before the group grows by it, the gap after shrinks):
+    /// errors when a gap would close or there is no focus group.
+    pub fn with_focus_group_shift(&self, shift_mm: f64) -> Result<Self, OpticsError> {
+        let Some((first, last)) = self.focus_group else {
+            return Err(OpticsError::BadInput {
+                name: "focus group",
+                value: shift_mm,
+                expected: "a prescription that names its focus_group",
+            });
+        };
+        let before = self.surfaces[first - 1].thickness + shift_mm;
+        let after = self.surfaces[last].thickness - shift_mm;
+        if !(shift_mm.is_finite() && before > 0.0 && after > 0.0) {
+            return Err(OpticsError::FocusGroupTravel {
+                shift: shift_mm,
+                before: self.surfaces[first - 1].thickness,
+                after: self.surfaces[last].thickness,
+            });
+        }
+        let mut p = self.clone();
+        p.surfaces[first - 1].thickness = before;
+        p.surfaces[last].thickness = after;
+        Ok(p)
     }
 
     /// The elements moved as rigid bodies, as written (surfaces numbered

@@ -65,6 +65,15 @@ pub struct PrescriptionSpec {
     /// surfaces; omitted: none.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub elements: Option<Vec<ElementSpec>>,
+    /// The group that moves to focus (internal focusing), its first and
+    /// last surfaces numbered from 1: focusing nearer moves it along the
+    /// axis, the gap before it (the thickness after surface first - 1) and
+    /// the gap after it (the thickness after surface last) changing by
+    /// opposite amounts, while the rest of the lens and the film stay.
+    /// Omitted: the whole lens moves (unit focusing, the film's distance
+    /// changes).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focus_group: Option<[usize; 2]>,
     /// What reading the file had to decide that its user should know (a
     /// Zemax file's retired glass name taken as its successor, say), one
     /// sentence each; not part of the file format.

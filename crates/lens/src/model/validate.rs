@@ -148,6 +148,34 @@ pub fn validate(spec: &PrescriptionSpec) -> Vec<Finding> {
         check_motion(&mut out, Some(i + 1), "", s.decenter_mm, s.tilt_deg);
     }
     let elements_fine = check_elements(&mut out, spec);
+    if let Some([a, b]) = spec.focus_group {
+        let n = spec.surfaces.len();
+        let air = |k: usize| spec.surfaces.get(k).is_some_and(|s| s.glass.is_none() && s.ior.is_none_or(|n| n == 1.0));
+        if a >= 2 && a <= b && b < n && !(air(a - 2) && air(b - 1)) {
+            out.push(
+                Severity::Error,
+                None,
+                Some("focus_group"),
+                format!(
+                    "focus_group [{a}, {b}]: the gaps before and after the group (after surfaces {} and {b}) must be air, or \
+                     moving it would change a glass's thickness; name the surfaces of whole elements",
+                    a - 1
+                ),
+            );
+        }
+        if !(a >= 2 && a <= b && b < n) {
+            out.push(
+                Severity::Error,
+                None,
+                Some("focus_group"),
+                format!(
+                    "focus_group [{a}, {b}]: give the group's first and last surfaces, numbered from 1, with a surface before it \
+                     and one after it (2 <= first <= last <= {})",
+                    n - 1
+                ),
+            );
+        }
+    }
     let stops: Vec<usize> = spec.surfaces.iter().enumerate().filter(|(_, s)| s.stop).map(|(i, _)| i + 1).collect();
     match stops.len() {
         0 => out.push(

@@ -102,3 +102,50 @@ pub fn film_for_focus_from_film(p: &Prescription, distance: f64) -> Result<f64, 
     // nearer, the plane cannot be focused from this distance
     Err(OpticsError::FocusTooNear { distance, lens_length: z_last + film })
 }
+
+/// The shift of `p`'s focus group (mm toward the image,
+/// [`Prescription::with_focus_group_shift`]) that brings the image where
+/// `film_at` finds it onto `p`'s own film (its last thickness, which
+/// stays): the secant method from no shift, to 1e-12 mm. `film_at` gives
+/// the film distance (mm behind the last vertex) at which a moved lens
+/// images the object: the paraxial focus
+/// ([`focus_group_shift_for_focus`]) or the real-ray best focus. Errors
+/// when the lens names no focus group, when the group would close a gap,
+/// or when no shift focuses.
+pub fn focus_group_shift(
+    p: &Prescription,
+    mut film_at: impl FnMut(&Prescription) -> Result<f64, OpticsError>,
+) -> Result<f64, OpticsError> {
+    let film = p.film_distance();
+    let mut miss = |shift: f64| -> Result<f64, OpticsError> { Ok(film_at(&p.with_focus_group_shift(shift)?)? - film) };
+    let (mut x0, mut x1) = (0.0, 0.1);
+    let (mut g0, mut g1) = (miss(x0)?, miss(x1)?);
+    for _ in 0..100 {
+        if g1.abs() <= 1e-12 * film.abs().max(1.0) {
+            return Ok(x1);
+        }
+        if g1 == g0 {
+            break;
+        }
+        let x2 = x1 - g1 * (x1 - x0) / (g1 - g0);
+        (x0, g0) = (x1, g1);
+        x1 = x2;
+        g1 = miss(x1)?;
+    }
+    Err(OpticsError::BadInput {
+        name: "focus group",
+        value: x1,
+        expected: "a focus group whose travel focuses the object (it does not converge: check focus_group)",
+    })
+}
+
+/// [`focus_group_shift`] for the paraxial focus of a plane `distance` mm in
+/// front of the film (the film and the lens's length stay, so the object
+/// is `distance` - the first vertex to film distance in front of the lens).
+pub fn focus_group_shift_for_focus(p: &Prescription, distance: f64) -> Result<f64, OpticsError> {
+    let object = distance - p.total_track();
+    if !(object > 0.0 && distance.is_finite()) {
+        return Err(OpticsError::FocusTooNear { distance, lens_length: p.total_track() });
+    }
+    focus_group_shift(p, |q| film_distance(q, ObjectDistance::Finite(object)))
+}

@@ -12,7 +12,9 @@ pub mod imaging;
 pub mod seidel;
 
 pub use first_order::{FirstOrder, Pupil};
-pub use focus::{film_distance, film_for_focus_from_film, object_distance_in_focus};
+pub use focus::{
+    film_distance, film_for_focus_from_film, focus_group_shift, focus_group_shift_for_focus, object_distance_in_focus,
+};
 pub use imaging::{imaging, object_in_focus, Imaging, ThickLens};
 
 use crate::error::OpticsError;

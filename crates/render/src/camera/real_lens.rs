@@ -169,8 +169,8 @@ pub struct SharedPupil {
     stop_sd: f64,
     sensor: [f64; 2],
     aperture: Aperture,
-    surfaces: usize,
-    last_vertex_z: f64,
+    /// The lens's spacings but the last (a moved focus group changes two).
+    spacings: Vec<f64>,
 }
 
 impl SharedPupil {
@@ -192,8 +192,7 @@ impl SharedPupil {
             stop_sd: p.stop_semi_diameter(),
             sensor,
             aperture: aperture.clone(),
-            surfaces: p.surfaces().len(),
-            last_vertex_z: z,
+            spacings: spacings(p),
         }
     }
 
@@ -202,13 +201,18 @@ impl SharedPupil {
     fn holds(&self, p: &Prescription, aperture: &Aperture, sensor: [f64; 2], film_mm: f64) -> bool {
         let slack = 1e-9 * film_mm.abs().max(1.0);
         p.stop_semi_diameter() == self.stop_sd
-            && p.surfaces().len() == self.surfaces
-            && p.last_vertex_z() == self.last_vertex_z
+            && spacings(p) == self.spacings
             && sensor == self.sensor
             && *aperture == self.aperture
             && film_mm >= self.films_mm.0 - slack
             && film_mm <= self.films_mm.1 + slack
     }
+}
+
+/// A lens's spacings, all but the film's.
+fn spacings(p: &Prescription) -> Vec<f64> {
+    let s = p.surfaces();
+    s[..s.len() - 1].iter().map(|x| x.thickness).collect()
 }
 
 /// Camera samples traced together per batch.

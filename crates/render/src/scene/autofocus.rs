@@ -8,6 +8,7 @@
 //! distance (the least RMS spot of the real on-axis bundle, as `lens
 //! focus` finds it), not the paraxial focus.
 
+use super::camera::RealFocus;
 use super::format::{CameraSpec, FilmSpec, FocusOn};
 use super::{camera, v3, FieldError, Given};
 use crate::camera::{Camera, Frame};
@@ -25,9 +26,8 @@ pub(crate) struct Autofocus {
     /// the film with a focal length, from the lens without; real lens: from
     /// the film to the point focused on), m.
     pub distance_m: f64,
-    /// A real lens's film distance (last vertex to film, mm) at the
-    /// real-ray best focus.
-    pub film_mm: Option<f64>,
+    /// How a real lens is focused at the real-ray best focus.
+    pub real: Option<RealFocus>,
     /// What was focused on, in words, for the render's closing line.
     pub note: String,
 }
@@ -108,8 +108,8 @@ pub(crate) fn autofocus(
             let mut depth = see(&build(spec, film, dir, given, None, Some(1e6))?)?;
             if matches!(spec, CameraSpec::Lens { .. }) {
                 for _ in 0..ROUNDS {
-                    let (d, film_mm) = real_focus(spec, dir, given, depth)?;
-                    let next = see(&build(spec, film, dir, given, Some(film_mm), Some(d))?)?;
+                    let real = real_focus(spec, dir, given, depth)?;
+                    let next = see(&build(spec, film, dir, given, Some(real), Some(depth))?)?;
                     let done = (next - depth).abs() <= 1e-12 * depth;
                     depth = next;
                     if done {
@@ -122,14 +122,15 @@ pub(crate) fn autofocus(
     };
     match spec {
         CameraSpec::Lens { .. } => {
-            let (distance_m, film_mm) = real_focus(spec, dir, given, depth)?;
+            let real = real_focus(spec, dir, given, depth)?;
+            let how = match real {
+                RealFocus::Film(f) => format!("film {} mm behind the last vertex", num(f)),
+                RealFocus::Group(s) => format!("focus group moved {} mm toward the image", num(s)),
+            };
             Ok(Autofocus {
-                distance_m,
-                film_mm: Some(film_mm),
-                note: format!(
-                    "autofocus on {what}; film {} mm behind the last vertex, its real-ray best focus",
-                    num(film_mm)
-                ),
+                distance_m: depth,
+                real: Some(real),
+                note: format!("autofocus on {what}; {how}, its real-ray best focus"),
             })
         }
         CameraSpec::ThinLens { focal_length_mm, .. } => {
@@ -150,7 +151,7 @@ pub(crate) fn autofocus(
             };
             Ok(Autofocus {
                 distance_m,
-                film_mm: None,
+                real: None,
                 note: format!("autofocus on {what}, {} m from the lens", num(depth)),
             })
         }
@@ -159,28 +160,42 @@ pub(crate) fn autofocus(
 }
 
 /// The camera of `spec` with its focus set to `distance` (m, the spec's
-/// convention) and, for a real lens, its film at `film_mm`.
+/// convention) and, for a real lens, focused as `real` says.
 fn build(
     spec: &CameraSpec,
     film: &FilmSpec,
     dir: &Path,
     given: &Given,
-    film_mm: Option<f64>,
+    real: Option<RealFocus>,
     distance: Option<f64>,
 ) -> Result<Camera, Problem> {
     let mut s = spec.clone();
     s.set_focus(distance, None);
-    camera::build_camera(&s, film, dir, given, film_mm)
+    camera::build_camera(&s, film, dir, given, real)
 }
 
-/// A real lens focused on a point `depth` m in front of the film: the
-/// film distance (mm behind the last vertex) of the real-ray best focus of
-/// that point (fixed-point iteration: the object distance from the first
-/// vertex depends on the film), and `depth` itself as the camera's focus
-/// distance.
-fn real_focus(spec: &CameraSpec, dir: &Path, given: &Given, depth: f64) -> Result<(f64, f64), Problem> {
+/// A real lens focused on a point `depth` m in front of the film at the
+/// real-ray best focus of that point: its focus group moved (the film and
+/// the lens's length stay) when it names one, else the film distance (mm
+/// behind the last vertex; fixed-point iteration: the object distance from
+/// the first vertex depends on the film).
+fn real_focus(spec: &CameraSpec, dir: &Path, given: &Given, depth: f64) -> Result<RealFocus, Problem> {
     let optics = |e: lens::OpticsError| -> Problem { (FIELD.to_string(), e.into()) };
     let p = camera::load_lens(spec, dir, given)?;
+    if p.focus_group().is_some() {
+        let object = depth * 1e3 - p.total_track();
+        if object <= 0.0 {
+            return Err(optics(lens::OpticsError::FocusTooNear {
+                distance: depth * 1e3,
+                lens_length: p.total_track(),
+            }));
+        }
+        let shift = lens::paraxial::focus_group_shift(&p, |q| {
+            lens::analysis::focus::focus(q, ObjectDistance::Finite(object)).map(|f| f.best_focus_film_distance)
+        })
+        .map_err(optics)?;
+        return Ok(RealFocus::Group(shift));
+    }
     let z_last = p.last_vertex_z();
     let mut film = lens::paraxial::film_for_focus_from_film(&p, depth * 1e3).map_err(optics)?;
     for _ in 0..50 {
@@ -196,7 +211,7 @@ fn real_focus(spec: &CameraSpec, dir: &Path, given: &Given, depth: f64) -> Resul
             break;
         }
     }
-    Ok((depth, film))
+    Ok(RealFocus::Film(film))
 }
 
 /// The axial depth (m from the frame's origin) of the point where the ray

@@ -70,18 +70,30 @@ pub(super) fn load_lens(c: &CameraSpec, dir: &Path, given: &Given) -> Result<len
     Ok(lens)
 }
 
+/// How a real lens is focused when not paraxially on the camera's
+/// `focus_distance`: autofocus's real-ray best focus.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum RealFocus {
+    /// The whole lens moved: the film this far behind the last vertex, mm.
+    Film(f64),
+    /// The prescription's focus group moved this far toward the image, mm
+    /// (the film stays).
+    Group(f64),
+}
+
 /// The camera of the scene file (a real lens's prescription as `given`, or
-/// loaded from its file; its pupil bounds as `given`, or made); `film_mm` places a real lens's film
-/// (mm behind its last vertex: autofocus's real-ray best focus) instead of
-/// focusing it paraxially on `focus_distance`.
+/// loaded from its file; its pupil bounds as `given`, or made). A real
+/// lens is focused on `focus_distance` paraxially, by its focus group when
+/// it names one (the film stays) or else as a whole (the film moves), or
+/// as `real` says (autofocus's real-ray best focus).
 pub(super) fn build_camera(
     c: &CameraSpec,
     film: &FilmSpec,
     dir: &Path,
     given: &Given,
-    film_mm: Option<f64>,
+    real: Option<RealFocus>,
 ) -> Result<Camera, (String, FieldError)> {
-    if c.focus_distance().is_some() && c.focus_on().is_some() && film_mm.is_none() {
+    if c.focus_distance().is_some() && c.focus_on().is_some() && real.is_none() {
         return Err((
             "camera.focus_on".into(),
             "give focus_distance or focus_on, not both (autofocus finds the distance)".into(),
@@ -179,10 +191,23 @@ pub(super) fn build_camera(
             if lens.is_tilted() {
                 return Err(("camera".to_string(), FieldError::Camera(crate::camera::CameraError::Tilted)));
             }
-            let film = match film_mm {
-                Some(f) => f,
-                None => lens::paraxial::film_for_focus_from_film(&lens, given_focus(c)? * 1e3)
-                    .map_err(|e| ("camera".to_string(), FieldError::Camera(e.into())))?,
+            let optics = |e: lens::OpticsError| ("camera".to_string(), FieldError::Camera(e.into()));
+            let real = match real {
+                Some(r) => r,
+                None if lens.focus_group().is_some() => RealFocus::Group(
+                    lens::paraxial::focus_group_shift_for_focus(&lens, given_focus(c)? * 1e3).map_err(optics)?,
+                ),
+                None => RealFocus::Film(
+                    lens::paraxial::film_for_focus_from_film(&lens, given_focus(c)? * 1e3).map_err(optics)?,
+                ),
+            };
+            let (lens, film) = match real {
+                RealFocus::Film(f) => (lens, f),
+                RealFocus::Group(shift) => {
+                    let moved = lens.with_focus_group_shift(shift).map_err(optics)?;
+                    let f = moved.film_distance();
+                    (moved, f)
+                }
             };
             let cam = RealLensCamera::with_film_distance(frame, &lens, film, *sensor_mm, aperture, given.pupil)
                 .map_err(|e| ("camera".to_string(), e.into()))?;

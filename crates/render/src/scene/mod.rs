@@ -548,7 +548,7 @@ impl Scene {
         // autofocus: the distance found, written into the camera as if given
         let mut file = file;
         let mut focus_note = None;
-        let mut film_mm = None;
+        let mut real = None;
         if let Some(on) = file.camera.focus_on().cloned() {
             if file.camera.focus_distance().is_some() {
                 return Err(invalid((
@@ -559,11 +559,11 @@ impl Scene {
             let a =
                 autofocus::autofocus(&file.camera, &file.film, dir, given, &on, &shapes, &named).map_err(invalid)?;
             file.camera.set_focus(Some(a.distance_m), None);
-            film_mm = a.film_mm;
+            real = a.real;
             focus_note = Some(a.note);
         }
         let f = &file.film;
-        let mut camera = camera::build_camera(&file.camera, f, dir, given, film_mm).map_err(invalid)?;
+        let mut camera = camera::build_camera(&file.camera, f, dir, given, real).map_err(invalid)?;
         let spheres: Vec<(DVec3, f64)> = (0..shapes.len())
             .filter(|&i| matches!(materials[material_of[i]], Material::Emissive { .. }))
             .filter_map(|i| match shapes[i] {

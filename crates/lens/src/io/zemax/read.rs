@@ -458,6 +458,7 @@ fn to_spec(f: &File, catalogs: &Catalogs) -> Result<PrescriptionSpec, ZemaxError
         object_distance_mm: object_distance,
         surfaces,
         elements: (!elements.is_empty()).then_some(elements),
+        focus_group: None,
         ..PrescriptionSpec::default()
     })
 }

@@ -22,18 +22,14 @@ pub struct Args {
     /// count stretches its keyframes over it).
     #[arg(long)]
     frames: Option<u32>,
-    /// Samples per pixel (default: the scene's).
-    #[arg(long)]
-    spp: Option<u32>,
+    /// Every frame's film.
+    #[command(flatten)]
+    film: crate::args::FilmArgs,
     /// Random seed, the same for every frame (no flicker from the sampler).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Film width, pixels (alone, the height follows the scene's aspect).
-    #[arg(long)]
-    width: Option<u32>,
-    /// Film height, pixels.
-    #[arg(long)]
-    height: Option<u32>,
+    #[command(flatten)]
+    glass_range: crate::args::GlassRangeArgs,
     /// Skip frames whose file exists (a file is written whole or not at
     /// all, so an existing one is a finished frame).
     #[arg(long)]
@@ -44,7 +40,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> CmdResult {
-    let overrides = ::render::scene::Overrides { width: a.width, height: a.height, spp: a.spp, ..Default::default() };
+    let overrides = a.film.overrides(&a.glass_range);
     let anim = Animation::load(&a.scene, &overrides, a.frames)?;
     let n = anim.frames();
     let paths: Vec<PathBuf> = (0..n).map(|k| frame_path(&a.output, k)).collect::<Result<_, _>>()?;
@@ -64,7 +60,14 @@ pub fn run(a: Args) -> CmdResult {
     }
     let pool = crate::render::pool(a.threads)?;
     let first_scene = anim.scene(todo.first().copied().unwrap_or(0))?;
-    let spp = a.spp.unwrap_or(first_scene.film.spp);
+    // the scene's warnings, once for the sequence
+    for w in &first_scene.glass_warnings {
+        crate::warnings::glass_range(w);
+    }
+    for w in &first_scene.warnings {
+        crate::warnings::warn("scene", w);
+    }
+    let spp = a.film.spp.unwrap_or(first_scene.film.spp);
     let (w, h) = (first_scene.film.width, first_scene.film.height);
     let rows = h as u64;
     drop(first_scene);

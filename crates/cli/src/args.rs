@@ -354,6 +354,35 @@ pub struct WavelengthArgs {
     pub wavelength_nm: Option<f64>,
 }
 
+/// `--width`, `--height`, `--spp`: the film of a study's every cell or a
+/// sequence's every frame.
+#[derive(clap::Args, Debug, Clone)]
+pub struct FilmArgs {
+    /// Film width, pixels (overrides the scene's; alone, the height
+    /// follows the scene's aspect).
+    #[arg(long)]
+    pub width: Option<u32>,
+    /// Film height, pixels (alone, the width follows the scene's aspect).
+    #[arg(long)]
+    pub height: Option<u32>,
+    /// Samples per pixel (overrides the scene's).
+    #[arg(long)]
+    pub spp: Option<u32>,
+}
+
+impl FilmArgs {
+    /// As scene overrides, with the glass range asked for.
+    pub fn overrides(&self, glass: &GlassRangeArgs) -> ::render::scene::Overrides {
+        ::render::scene::Overrides {
+            width: self.width,
+            height: self.height,
+            spp: self.spp,
+            strict_glass_range: glass.strict_glass_range,
+            ..Default::default()
+        }
+    }
+}
+
 /// `--strict-glass-range`, for the analyses and the renders alike.
 #[derive(clap::Args, Debug, Clone)]
 pub struct GlassRangeArgs {

@@ -18,16 +18,9 @@ pub struct Args {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Every cell's film width, pixels (overrides the study's and the
-    /// scene's).
-    #[arg(long)]
-    width: Option<u32>,
-    /// Every cell's film height, pixels.
-    #[arg(long)]
-    height: Option<u32>,
-    /// Every cell's samples per pixel.
-    #[arg(long)]
-    spp: Option<u32>,
+    /// Every cell's film (overrides the study's and the scene's).
+    #[command(flatten)]
+    film: crate::args::FilmArgs,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -42,13 +35,7 @@ const TITLE: (f64, u32) = (22.0, 46);
 const LABEL: (f64, u32) = (15.0, 30);
 
 pub fn run(a: Args) -> CmdResult {
-    let overrides = ::render::scene::Overrides {
-        width: a.width,
-        height: a.height,
-        spp: a.spp,
-        strict_glass_range: a.glass_range.strict_glass_range,
-        ..Default::default()
-    };
+    let overrides = a.film.overrides(&a.glass_range);
     let study = Study::load_with(&a.study, &overrides)?;
     outputs::check(&[Output { path: &a.output, flag: "-o", extensions: &["png"] }], &study.inputs)?;
     for cell in &study.cells {

@@ -36,6 +36,7 @@
 //! ```
 
 pub mod analysis;
+pub mod coating;
 pub mod design;
 pub mod error;
 pub mod glass;

@@ -1,0 +1,202 @@
+//! How much light a surface between two media reflects, for unpolarised
+//! light at a given angle and wavelength: bare (the Fresnel equations) or
+//! under thin-film coatings (interference in each layer, by the
+//! characteristic-matrix method of Macleod, *Thin-Film Optical Filters*,
+//! ch. 2). Lossless dielectrics only: what is not reflected is
+//! transmitted. The ghosts a lens makes (light reflected at two surfaces
+//! and sent back to the film) are weighted by these reflectances.
+
+use rustfft::num_complex::Complex64;
+use std::f64::consts::PI;
+
+/// Magnesium fluoride's index for the single-layer coating, at the d line
+/// (1.3777 ordinary ray; its dispersion, under 0.5% across the visible, is
+/// left out).
+pub const MGF2_INDEX: f64 = 1.3777;
+
+/// A surface's coating.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Coating {
+    /// Bare: the Fresnel reflectance.
+    None,
+    /// A single magnesium fluoride layer a quarter of `design_nm` thick
+    /// optically at normal incidence: the common single-layer
+    /// anti-reflection coating, least reflective at its design wavelength.
+    MgF2 {
+        /// The wavelength it is a quarter wave at, nm.
+        design_nm: f64,
+    },
+    /// Layers, listed from the side of the first medium (the one light
+    /// comes from when it meets the surface going toward the image).
+    Layers(Vec<Layer>),
+}
+
+/// One thin film.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Layer {
+    /// Refractive index (real: lossless).
+    pub index: f64,
+    /// Physical thickness, nm.
+    pub thickness_nm: f64,
+}
+
+impl Coating {
+    /// The layers, listed from the first medium's side.
+    pub fn layers(&self) -> Vec<Layer> {
+        match self {
+            Coating::None => Vec::new(),
+            Coating::MgF2 { design_nm } => {
+                vec![Layer { index: MGF2_INDEX, thickness_nm: design_nm / (4.0 * MGF2_INDEX) }]
+            }
+            Coating::Layers(l) => l.clone(),
+        }
+    }
+
+    /// The reflectance for unpolarised light (the mean of the s and p
+    /// reflectances) meeting the coated surface from medium `n1` with the
+    /// cosine `cos1` of its angle of incidence (0 to 1), the other medium
+    /// `n2`, at `nm`: from `n1`'s side the layers are met in their listed
+    /// order (`reversed` for light going the other way). 1 beyond the
+    /// critical angle (total internal reflection).
+    pub fn reflectance(&self, n1: f64, n2: f64, cos1: f64, nm: f64, reversed: bool) -> f64 {
+        let mut layers = self.layers();
+        if reversed {
+            layers.reverse();
+        }
+        let (s, p) = stack_reflectance(n1, &layers, n2, cos1, nm);
+        0.5 * (s + p)
+    }
+}
+
+/// The s and p reflectances of a stack of `layers` (listed from the
+/// incident side) between media `n_in` and `n_out`, for light from `n_in`
+/// with the cosine `cos_in` of its angle of incidence, at `nm`. Each layer
+/// multiplies the characteristic matrix [[cos d, i sin d / y], [i y sin d,
+/// cos d]] (d = 2 pi n t cos / lambda its phase thickness, y its tilted
+/// admittance: n cos for s, n / cos for p); the stack's amplitude
+/// reflectance is (y_in B - C) / (y_in B + C) with [B, C] = M [1, y_out].
+/// Angles in every medium follow Snell's law, a cosine going imaginary
+/// where the light is evanescent.
+pub fn stack_reflectance(n_in: f64, layers: &[Layer], n_out: f64, cos_in: f64, nm: f64) -> (f64, f64) {
+    let cos_in = cos_in.clamp(0.0, 1.0);
+    let sin2 = (1.0 - cos_in * cos_in) * n_in * n_in;
+    // the cosine in a medium of index n: sqrt(1 - sin^2 / n^2), imaginary
+    // (evanescent) past the critical angle
+    let cos_in_medium = |n: f64| Complex64::new(1.0 - sin2 / (n * n), 0.0).sqrt();
+    let admittances = |n: f64| {
+        let c = cos_in_medium(n);
+        (c * n, Complex64::new(n, 0.0) / c)
+    };
+    let (ys_in, yp_in) = (Complex64::new(n_in * cos_in, 0.0), Complex64::new(n_in / cos_in.max(1e-300), 0.0));
+    let (ys_out, yp_out) = admittances(n_out);
+    let i = Complex64::new(0.0, 1.0);
+    let one = Complex64::new(1.0, 0.0);
+    // [B, C] for each polarisation, the stack applied from the exit side
+    let mut bc_s = (one, ys_out);
+    let mut bc_p = (one, yp_out);
+    for l in layers.iter().rev() {
+        let c = cos_in_medium(l.index);
+        let delta = c * (2.0 * PI * l.index * l.thickness_nm / nm);
+        let (cd, sd) = (delta.cos(), delta.sin());
+        let (ys, yp) = (c * l.index, Complex64::new(l.index, 0.0) / c);
+        bc_s = (cd * bc_s.0 + i * sd / ys * bc_s.1, i * ys * sd * bc_s.0 + cd * bc_s.1);
+        bc_p = (cd * bc_p.0 + i * sd / yp * bc_p.1, i * yp * sd * bc_p.0 + cd * bc_p.1);
+    }
+    let r = |y: Complex64, (b, c): (Complex64, Complex64)| {
+        let r = (y * b - c) / (y * b + c);
+        r.norm_sqr().min(1.0)
+    };
+    if cos_in == 0.0 {
+        // grazing: everything is reflected
+        return (1.0, 1.0);
+    }
+    (r(ys_in, bc_s), r(yp_in, bc_p))
+}
+
+/// The Fresnel reflectance of a bare surface for unpolarised light: the
+/// mean of the s and p reflectances, light from medium `n1` with the
+/// cosine `cos1` of its angle of incidence into medium `n2` (1 beyond the
+/// critical angle).
+pub fn fresnel(n1: f64, n2: f64, cos1: f64) -> f64 {
+    Coating::None.reflectance(n1, n2, cos1, 550.0, false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    /// At normal incidence a bare surface reflects ((n1 - n2) / (n1 +
+    /// n2))^2 (4.2% for N-BK7 in air), from either side.
+    #[test]
+    fn bare_normal_incidence() {
+        let n: f64 = 1.5168;
+        let want = ((n - 1.0) / (n + 1.0)).powi(2);
+        assert_relative_eq!(fresnel(1.0, n, 1.0), want, max_relative = 1e-14);
+        assert_relative_eq!(fresnel(n, 1.0, 1.0), want, max_relative = 1e-14);
+    }
+
+    /// p light is not reflected at Brewster's angle, tan = n2 / n1; the s
+    /// reflectance there is the closed form ((n1 c1 - n2 c2) / (n1 c1 +
+    /// n2 c2))^2.
+    #[test]
+    fn brewster_angle_reflects_no_p_light() {
+        let (n1, n2): (f64, f64) = (1.0, 1.5168);
+        let theta = (n2 / n1).atan();
+        let (c1, s1) = (theta.cos(), theta.sin());
+        let c2 = (1.0 - (n1 * s1 / n2).powi(2)).sqrt();
+        let (s, p) = stack_reflectance(n1, &[], n2, c1, 550.0);
+        assert!(p < 1e-28, "{p}");
+        assert_relative_eq!(s, ((n1 * c1 - n2 * c2) / (n1 * c1 + n2 * c2)).powi(2), max_relative = 1e-12);
+    }
+
+    /// Beyond the critical angle (glass to air), everything is reflected,
+    /// coated or not.
+    #[test]
+    fn total_internal_reflection() {
+        let n: f64 = 1.5168;
+        let cos = (1.0f64 - (1.0 / n / 0.99).powi(2)).sqrt() * 0.5;
+        assert_relative_eq!(fresnel(n, 1.0, cos), 1.0, max_relative = 1e-12);
+        let c = Coating::MgF2 { design_nm: 550.0 };
+        assert_relative_eq!(c.reflectance(n, 1.0, cos, 500.0, true), 1.0, max_relative = 1e-12);
+    }
+
+    /// A quarter-wave layer at its design wavelength and normal incidence
+    /// reflects ((n0 ns - nc^2) / (n0 ns + nc^2))^2: 1.3% on N-BK7 for
+    /// MgF2, against 4.2% bare; a half-wave layer is absent.
+    #[test]
+    fn quarter_and_half_wave_layers() {
+        let (ns, nc) = (1.5168, MGF2_INDEX);
+        let c = Coating::MgF2 { design_nm: 550.0 };
+        let want = ((ns - nc * nc) / (ns + nc * nc)).powi(2);
+        assert_relative_eq!(c.reflectance(1.0, ns, 1.0, 550.0, false), want, max_relative = 1e-12);
+        assert!(want < 0.014 && want > 0.012, "{want}");
+        // away from the design wavelength it reflects more
+        assert!(c.reflectance(1.0, ns, 1.0, 420.0, false) > want);
+        let half = Coating::Layers(vec![Layer { index: 2.0, thickness_nm: 550.0 / 4.0 }]);
+        assert_relative_eq!(half.reflectance(1.0, ns, 1.0, 550.0, false), fresnel(1.0, ns, 1.0), max_relative = 1e-12);
+    }
+
+    /// A lossless stack reflects the same from either side at angles Snell
+    /// relates (reciprocity), and never more than 1 or less than 0.
+    #[test]
+    fn reciprocity_and_bounds() {
+        let layers = Coating::Layers(vec![
+            Layer { index: 1.38, thickness_nm: 99.6 },
+            Layer { index: 2.1, thickness_nm: 65.0 },
+            Layer { index: 1.62, thickness_nm: 84.0 },
+        ]);
+        let (n1, n2): (f64, f64) = (1.0, 1.7);
+        for k in 0..20 {
+            let c1 = 1.0 - k as f64 / 20.0 * 0.9;
+            let s1 = (1.0 - c1 * c1).sqrt();
+            let c2 = (1.0 - (n1 * s1 / n2).powi(2)).sqrt();
+            for nm in [420.0, 550.0, 680.0] {
+                let a = layers.reflectance(n1, n2, c1, nm, false);
+                let b = layers.reflectance(n2, n1, c2, nm, true);
+                assert_relative_eq!(a, b, max_relative = 1e-10);
+                assert!((0.0..=1.0).contains(&a));
+            }
+        }
+    }
+}

@@ -59,18 +59,11 @@ pub fn run(a: Args) -> CmdResult {
         eprintln!("resuming: {} of {n} frames already written", n as usize - todo.len());
     }
     let pool = crate::render::pool(a.threads)?;
-    let first_scene = anim.scene(todo.first().copied().unwrap_or(0))?;
-    // the scene's warnings, once for the sequence
-    for w in &first_scene.glass_warnings {
-        crate::warnings::glass_range(w);
-    }
-    for w in &first_scene.warnings {
-        crate::warnings::warn("scene", w);
-    }
-    let spp = a.film.spp.unwrap_or(first_scene.film.spp);
-    let (w, h) = (first_scene.film.width, first_scene.film.height);
+    // the film is the same in every frame (keyframes move the camera only)
+    let film = anim.film();
+    let spp = a.film.spp.unwrap_or(film.spp);
+    let (w, h) = (film.width, film.height);
     let rows = h as u64;
-    drop(first_scene);
     let bar = indicatif::ProgressBar::new(rows * todo.len() as u64);
     bar.set_style(
         indicatif::ProgressStyle::with_template("{bar:40} frame {msg}, {elapsed} elapsed, ETA {eta}")
@@ -80,6 +73,15 @@ pub fn run(a: Args) -> CmdResult {
     for (done, &k) in todo.iter().enumerate() {
         bar.set_message(format!("{} of {} ({k})", done + 1, todo.len()));
         let scene = anim.scene(k)?;
+        if done == 0 {
+            // the scene's warnings, once for the sequence
+            for w in &scene.glass_warnings {
+                bar.suspend(|| crate::warnings::glass_range(w));
+            }
+            for w in &scene.warnings {
+                bar.suspend(|| crate::warnings::warn("scene", w));
+            }
+        }
         let (image, _) = pool.install(|| render(&scene, Options { spp, seed: a.seed }, &|_| bar.inc(1)));
         image.save(&paths[k as usize], scene.film.exposure)?;
     }

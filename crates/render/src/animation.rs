@@ -237,6 +237,11 @@ impl Animation {
         self.file.film.spectral = s;
     }
 
+    /// The film every frame has (keyframes move the camera only).
+    pub fn film(&self) -> &crate::scene::format::FilmSpec {
+        &self.file.film
+    }
+
     /// Number of frames.
     pub fn frames(&self) -> u32 {
         self.frames

@@ -93,12 +93,6 @@ pub(super) fn build_camera(
     given: &Given,
     real: Option<RealFocus>,
 ) -> Result<Camera, (String, FieldError)> {
-    if c.focus_distance().is_some() && c.focus_on().is_some() && real.is_none() {
-        return Err((
-            "camera.focus_on".into(),
-            "give focus_distance or focus_on, not both (autofocus finds the distance)".into(),
-        ));
-    }
     let aspect = film.width as f64 / film.height as f64;
     let pose = |p: &Pose| -> Result<Frame, (String, FieldError)> {
         if ![p.position, p.look_at, p.up].iter().flatten().all(|x| x.is_finite()) {
@@ -251,12 +245,6 @@ pub(super) fn summary(c: &CameraSpec, camera: &Camera) -> String {
     }
 }
 
-/// The distance in focus the file gives, m from the film (`None`: a
-/// pinhole).
-pub(super) fn focus_distance(c: &CameraSpec) -> Option<f64> {
-    c.focus_distance()
-}
-
 /// For a real lens, the share of the film's four corners from which no
 /// ray passes the lens (an 8 x 8 grid of aperture samples each): the image
 /// circle does not cover them.
@@ -276,7 +264,7 @@ pub(super) fn dark_corners(camera: &Camera) -> usize {
 /// cover the film.
 pub(super) fn settings_warnings(spec: &CameraSpec, camera: &Camera, shapes: &[crate::geometry::Shape]) -> Vec<String> {
     let mut out = Vec::new();
-    if let (Some(d), Some(frame)) = (focus_distance(spec), camera.frame()) {
+    if let (Some(d), Some(frame)) = (spec.focus_distance(), camera.frame()) {
         let along = |p: DVec3| (p - frame.origin).dot(frame.forward);
         let farthest = shapes
             .iter()

@@ -52,9 +52,12 @@
 mod cells;
 mod fan;
 mod shape;
+mod shared;
 mod star;
 
 pub use fan::Fan;
+pub(crate) use shared::bounded_ends;
+pub use shared::SharedPupil;
 
 use super::aperture::Aperture;
 use cells::cells_bin;

@@ -20,7 +20,7 @@ pub const RR_DEPTH: usize = 3;
 /// Radiance arriving along `ray`, in the channels of `t` (linear sRGB, or
 /// a value per wavelength).
 pub fn radiance<T: Transport>(scene: &Scene, ray: Ray, t: &mut T, s: &mut Sampler) -> T::Value {
-    radiance_with(scene, ray, t, s, None)
+    radiance_with(scene, ray, t, s, None, &[])
 }
 
 /// The uniforms of a path's first diffuse bounce drawn by the render loop
@@ -34,13 +34,17 @@ pub struct FirstBounce {
     pub bsdf: (f64, f64),
 }
 
-/// [`radiance`] with the first diffuse bounce's uniforms given.
+/// [`radiance`] with the first diffuse bounce's uniforms given, and the
+/// emitters `unseen` (sorted primitives) counted as black where the ray
+/// itself meets them: a real lens's lamps, whose directly seen light the
+/// render traces from the lamps (`camera::lamp_light`).
 pub fn radiance_with<T: Transport>(
     scene: &Scene,
     mut ray: Ray,
     t: &mut T,
     s: &mut Sampler,
     mut first: Option<FirstBounce>,
+    unseen: &[usize],
 ) -> T::Value {
     let mut l = T::Value::ZERO;
     let mut beta = T::Value::ONE;
@@ -61,6 +65,9 @@ pub fn radiance_with<T: Transport>(
         };
         let mat = &scene.materials[scene.material_of[prim]];
         if let Material::Emissive { .. } = mat {
+            if depth == 0 && unseen.binary_search(&prim).is_ok() {
+                break;
+            }
             // emitters that light sampling cannot pick (infinite planes) are
             // counted whenever a path finds them
             let le = mat.emitted(t, -ray.dir.dot(h.n));

@@ -3,9 +3,8 @@
 //! pixel and aperture samples decorrelated per pixel, deterministic for a
 //! given seed.
 
-#[cfg(doc)]
-use crate::camera::Camera;
-use crate::camera::{CameraSample, SpectralLane};
+use crate::camera::lamp_light::{FilmPlan, LampLight};
+use crate::camera::{Camera, CameraSample, SpectralLane};
 use crate::companions;
 use crate::image::Image;
 use crate::integrator::{radiance_with, FirstBounce};
@@ -132,6 +131,10 @@ pub fn render_with(
             .collect();
         add_band(&mut film, band, rows, &plan);
     }
+    if let (Some(lamps), Camera::Real(cam)) = (&plan.lamps, &scene.camera) {
+        let fp = FilmPlan { width: w, height: h, filter: scene.film.filter, colour: &scene.colour, seed: opt.seed };
+        lamps.render(scene, cam, &fp, &mut film);
+    }
     let stats = Stats { camera_rays: w * h * plan.spp, camera_rays_passed: passed.load(Ordering::Relaxed) };
     (Image { width: w, height: h, pixels: film }, stats)
 }
@@ -156,11 +159,18 @@ struct Plan {
     /// its wavelengths) from which a sample traces its companions
     /// (`companions.rs`).
     companions_from: f64,
+    /// Through a real lens, the lamps whose light is traced from them
+    /// (`camera::lamp_light`), and their primitives, which camera paths
+    /// count as black where they meet them first.
+    lamps: Option<LampLight>,
+    unseen: Vec<usize>,
 }
 
 impl Plan {
     fn new(scene: &Scene, opt: Options, companions: Companions) -> Plan {
         let spp = opt.spp.max(1) as usize;
+        let lamps = LampLight::build(scene, spp);
+        let unseen = lamps.as_ref().map(|l| l.lamps()).unwrap_or_default();
         Plan {
             width: scene.film.width as usize,
             height: scene.film.height as usize,
@@ -177,9 +187,11 @@ impl Plan {
                 && scene.camera.is_dispersive()
                 && scene.film.filter == FilterSpec::Box,
             companions_from: match companions {
-                Companions::Auto => companions::threshold(scene, opt.seed, spp),
+                Companions::Auto => companions::threshold(scene, opt.seed, spp, &unseen),
                 Companions::From(v) => v,
             },
+            lamps,
+            unseen,
         }
     }
 }
@@ -370,7 +382,7 @@ fn trace_paths(
             };
             *passed += 1;
             let mut t = Spectral::new(b.colours[k]);
-            b.radiances[k] = radiance_with(scene, ray, &mut t, s, Some(b.firsts[k]));
+            b.radiances[k] = radiance_with(scene, ray, &mut t, s, Some(b.firsts[k]), &plan.unseen);
             b.colours[k] = t.wavelengths;
             b.traced[k] = true;
         }
@@ -415,9 +427,9 @@ fn rgb_group(scene: &Scene, plan: &Plan, samplers: &mut [Sampler], b: &mut Scrat
                 * match scene.colour {
                     ColourMode::Monochromatic(nm) => {
                         let mut t = Spectral::new(SampledWavelengths::single(nm));
-                        DVec3::splat(radiance_with(scene, ray, &mut t, s, first).0[0])
+                        DVec3::splat(radiance_with(scene, ray, &mut t, s, first, &plan.unseen).0[0])
                     }
-                    _ => radiance_with(scene, ray, &mut Rgb, s, first),
+                    _ => radiance_with(scene, ray, &mut Rgb, s, first, &plan.unseen),
                 };
         }
         row.pixels.push(sum / spp as f64);

@@ -20,7 +20,6 @@
 //! wavelength a render samples.
 
 use super::aperture::Aperture;
-use super::lamp_patches::{RealLampAim, Seen, SHARE};
 pub use super::pupil::SharedPupil;
 use super::pupil::{bounded_ends, PupilTables};
 use super::{CameraError, CameraSample, Frame, SpectralLane};
@@ -54,9 +53,6 @@ pub struct RealLensCamera {
     /// Mean unnormalised weight at the film centre: weights are divided by
     /// it, so the centre of the image has exposure 1.
     norm: f64,
-    /// The small lamps a share of the samples aims at (none until
-    /// [`RealLensCamera::aim_at_lamps`]).
-    lamps: RealLampAim,
     /// How this film sees the pupil bounds (1 unless they were made for a
     /// sequence at another film: [`super::pupil::pupil_scale`]).
     pupil_scale: f64,
@@ -207,7 +203,6 @@ impl RealLensCamera {
             tables,
             aperture,
             norm: 1.0,
-            lamps: RealLampAim::default(),
             pupil_scale,
         };
         let centre = cam.mean_weight_at_centre();
@@ -250,52 +245,14 @@ impl RealLensCamera {
         sum / N as f64
     }
 
-    /// Aims a share of the samples at the small emissive spheres `lamps`
-    /// (centre and radius, scene metres) through the lens, where their
-    /// patches of the pupil can be seen ([`super::lamp_patches`]); an
-    /// empty list (or more than [`super::lamp_patches::MAX_LAMPS`]) turns
-    /// aiming off. The picture is the same in expectation either way.
-    pub fn aim_at_lamps(&mut self, lamps: &[(DVec3, f64)]) {
-        let in_lens: Vec<(DVec3, f64)> = lamps
-            .iter()
-            .map(|&(c, r)| (self.to_lens(&Ray { origin: c, dir: self.frame.forward }).0, r * 1e3))
-            .collect();
-        let p = &self.prescription;
-        let first_sd = p.surfaces()[0].semi_diameter.unwrap_or(3.0 * self.stop_sd);
-        // a dispersive lens's models over the spectrum a render samples
-        let spectrum = p.is_dispersive().then(|| crate::spectrum::cie::range_through(p.glasses()));
-        self.lamps =
-            RealLampAim::build(&in_lens, &self.back, first_sd, self.z_film, self.z_rear, p.wavelength_nm(), spectrum);
-    }
-
-    /// The lamps aimed at ([`Self::aim_at_lamps`]).
-    pub fn lamp_aim(&self) -> &RealLampAim {
-        &self.lamps
-    }
-
     /// The lens-frame film point and rear-plane target of a sample, and the
     /// inverse of the density (per mm^2 of the rear plane) it was drawn
-    /// with: the area of the pupil bounds it was drawn from uniformly, or
-    /// where a lamp's patch can be seen, the mixture's with lamp aiming.
+    /// with: the area of the pupil bounds it was drawn from uniformly.
     fn target(&self, s: &CameraSample) -> Option<(DVec3, DVec3, f64)> {
         // the lens inverts the image: film point opposite the scene point
         let fx = -(s.film.0 - 0.5) * self.sensor[0];
         let fy = -(0.5 - s.film.1) * self.sensor[1];
         let film = DVec3::new(fx, fy, self.z_film);
-        if self.lamps.is_on() {
-            let area = self.pupil_area(fx, fy)?;
-            let seen = self.lamps.seen(fx, fy, area, s.wavelength_nm);
-            if !seen.is_empty() {
-                let a = s.aperture;
-                let r = if a.0 < SHARE {
-                    self.lamps.draw(&seen, fx, fy, (a.0 / SHARE, a.1))?
-                } else {
-                    let (_, (bx, by)) = self.pupil_sample(fx, fy, ((a.0 - SHARE) / (1.0 - SHARE), a.1))?;
-                    DVec2::new(bx, by)
-                };
-                return Some((film, DVec3::new(r.x, r.y, self.z_rear), self.mixture(&seen, area, fx, fy, r)));
-            }
-        }
         let (area, (bx, by)) = self.pupil_sample(fx, fy, s.aperture)?;
         Some((film, DVec3::new(bx, by, self.z_rear), area))
     }
@@ -318,30 +275,6 @@ impl RealLensCamera {
             return Some((area, (bx, by)));
         }
         Some((area * k * k, (fx + (bx - fx) * k, fy + (by - fy) * k)))
-    }
-
-    /// The inverse of the density (per mm^2 of the rear plane) with which
-    /// [`Self::target`] draws rear-plane target `r` from film point (fx,
-    /// fy) (lens frame, mm) for a sample of wavelength `nm` (`None`: RGB):
-    /// what a wavelength's lane needs for the balance heuristic. `None`
-    /// where no ray passes from there.
-    fn inverse_density(&self, fx: f64, fy: f64, r: DVec2, nm: Option<f64>) -> Option<f64> {
-        let area = self.pupil_area(fx, fy)?;
-        if self.lamps.is_on() {
-            let seen = self.lamps.seen(fx, fy, area, nm);
-            if !seen.is_empty() {
-                return Some(self.mixture(&seen, area, fx, fy, r));
-            }
-        }
-        Some(area)
-    }
-
-    /// The inverse of the mixture's density at target `r` from film point
-    /// (fx, fy), where the lamps `seen` are aimed at: uniform over the
-    /// bounds of `area` (mm^2) with probability `1 - SHARE`, a lamp's
-    /// patch with `SHARE`.
-    fn mixture(&self, seen: &Seen, area: f64, fx: f64, fy: f64, r: DVec2) -> f64 {
-        1.0 / ((1.0 - SHARE) / area + SHARE * self.lamps.density(seen, fx, fy, r))
     }
 
     /// Traces `samples` (each at its wavelength, if it has one and the
@@ -598,9 +531,7 @@ impl RealLensCamera {
             }
             let (fx, fy) = (r.x[i], r.y[i]);
             let cos = r.dz[i];
-            // the rear-plane target of this film point's ray
-            let rear = DVec2::new(fx, fy) - DVec2::new(r.dx[i], r.dy[i]) * (d / cos);
-            let Some(area) = self.inverse_density(fx, fy, rear, Some(wavelengths[k].nm[j])) else { continue };
+            let Some(area) = self.pupil_area(fx, fy) else { continue };
             let w = area * cos.powi(4) / (d * d);
             if let Some((_, lanes)) = &mut out[k] {
                 lanes[j] = SpectralLane {
@@ -610,6 +541,33 @@ impl RealLensCamera {
                 };
             }
         }
+    }
+
+    /// Traces `batch` (lens frame, mm, rays from object space toward the
+    /// film) through the lens onto the film, each ray at its wavelength
+    /// when `spectral`; afterwards a ray with status 0 reached the film
+    /// point (x, y) it holds, with the stop shape's transmission in `t`.
+    /// What light traced from a lamp goes through ([`super::lamp_light`]).
+    pub(crate) fn trace_to_film(&self, batch: &mut SpectralBatch, spectral: bool, t: &mut Vec<f64>) {
+        let shape = |x: f64, y: f64| self.aperture.transmission(x / self.stop_sd, y / self.stop_sd);
+        self.back.trace(batch, spectral, t, shape);
+    }
+
+    /// The film position (u, v in [0, 1], v down) of a lens-frame film
+    /// point (mm): the inverse of the film mapping of [`Self::rays`].
+    pub(crate) fn film_uv(&self, fx: f64, fy: f64) -> (f64, f64) {
+        (0.5 - fx / self.sensor[0], 0.5 + fy / self.sensor[1])
+    }
+
+    /// A scene point (m) in the lens frame (mm: x right, y up, z from the
+    /// first vertex toward the film).
+    pub(crate) fn point_to_lens(&self, p: DVec3) -> DVec3 {
+        self.to_lens(&Ray { origin: p, dir: self.frame.forward }).0
+    }
+
+    /// A lens-frame point (mm) and direction as a scene ray (m).
+    pub(crate) fn ray_to_scene(&self, p: DVec3, d: DVec3) -> Ray {
+        self.lens_to_scene(p, d)
     }
 
     /// The scene ray through one film position and its weight (see

@@ -235,6 +235,12 @@ pub struct Scene {
     /// from one), the prescription, aperture masks, the environment image,
     /// meshes. A command must not write over any of them.
     pub inputs: Vec<std::path::PathBuf>,
+    /// Whether a real lens's lamps (emissive spheres) seen through it are
+    /// rendered by tracing light from them into the lens
+    /// (`camera::lamp_light`; on unless turned off here, as tests do to
+    /// compare with camera paths alone). Either way the picture is the same
+    /// in expectation.
+    pub lamp_tracing: bool,
     bvh: Option<Bvh>,
     /// Primitives tested one by one (planes, or all when there is no BVH).
     linear: Vec<usize>,
@@ -575,8 +581,8 @@ impl Scene {
             Camera::ThinLens { aperture, focus_shift, lamps, .. } => {
                 *lamps = crate::camera::LampAim::new(spheres, aperture, *focus_shift);
             }
-            Camera::Real(c) => c.aim_at_lamps(&spheres),
-            Camera::Pinhole { .. } => {}
+            // the real lens's lamps are traced from the lamps at render time
+            Camera::Real(_) | Camera::Pinhole { .. } => {}
         }
         let warnings = camera::settings_warnings(&file.camera, &camera, &shapes);
         let mut camera_summary = camera::summary(&file.camera, &camera);
@@ -614,6 +620,7 @@ impl Scene {
             warnings,
             camera_summary,
             inputs,
+            lamp_tracing: true,
             bvh,
             linear,
         })

@@ -28,6 +28,7 @@
 //! and deterministic. `film.companions: all` (`lens render --companions
 //! all`) traces every sample's companions instead.
 
+use crate::camera::lamp_light::Unseen;
 use crate::camera::CameraSample;
 use crate::integrator::radiance_with;
 use crate::rng::Sampler;
@@ -70,9 +71,9 @@ const PILOT_STREAM: u64 = 0x5eed_9110_7000_0000;
 /// its companions: 0 (all of them) where companions cost no trace of their
 /// own (no real lens with glasses, or an RGB render). A scene whose film
 /// asks for every companion (`film.companions: all`) does not call this.
-/// The emitters `unseen` are black where camera rays meet them (see
+/// What is `unseen` is black where camera rays meet it (see
 /// [`radiance_with`]).
-pub(crate) fn threshold(scene: &Scene, seed: u64, spp: usize, unseen: &[usize]) -> f64 {
+pub(crate) fn threshold(scene: &Scene, seed: u64, spp: usize, unseen: &Unseen) -> f64 {
     let ColourMode::Spectral(range) = &scene.colour else { return 0.0 };
     if !scene.camera.companions_cost_a_trace() {
         return 0.0;
@@ -149,20 +150,20 @@ mod tests {
         let bokeh = shipped("bokeh-double-gauss.json");
         assert!(matches!(bokeh.colour, ColourMode::Spectral(_)));
         for seed in [1, 2] {
-            let tau = threshold(&bokeh, seed, 64, &[]);
+            let tau = threshold(&bokeh, seed, 64, &Unseen::NONE);
             assert!(tau > 0.02 && tau < 30.0, "seed {seed}: threshold {tau}");
             // as rendered, the lamps' light is traced from the lamps and
             // camera paths see none of it: the dim rest is all there is,
             // and every sample traces its companions
-            let lamps = crate::camera::lamp_light::LampLight::build(&bokeh, 64).unwrap().lamps();
-            let tau = threshold(&bokeh, seed, 64, &lamps);
+            let lamps = crate::camera::lamp_light::LampLight::build(&bokeh, 64).unwrap();
+            let tau = threshold(&bokeh, seed, 64, lamps.unseen());
             assert!(tau < 0.004, "seed {seed}: threshold {tau} with the lamps traced from the lamps");
         }
         let mut rgb = shipped("bokeh-double-gauss.json");
         rgb.colour = ColourMode::Rgb;
-        assert_eq!(threshold(&rgb, 1, 64, &[]), 0.0);
+        assert_eq!(threshold(&rgb, 1, 64, &Unseen::NONE), 0.0);
         let thin = shipped("bokeh-thin-glass.json");
         assert!(matches!(thin.colour, ColourMode::Spectral(_)) && thin.camera.is_dispersive());
-        assert_eq!(threshold(&thin, 1, 64, &[]), 0.0);
+        assert_eq!(threshold(&thin, 1, 64, &Unseen::NONE), 0.0);
     }
 }

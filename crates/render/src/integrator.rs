@@ -4,6 +4,7 @@
 //! and Russian roulette; written once over [`Transport`]: RGB channels or a
 //! path's wavelengths.
 
+use crate::camera::lamp_light::Unseen;
 use crate::geometry::{Ray, EPS};
 use crate::light::sample_shape_at;
 use crate::material::{cosine_hemisphere, Material, Scatter};
@@ -20,7 +21,7 @@ pub const RR_DEPTH: usize = 3;
 /// Radiance arriving along `ray`, in the channels of `t` (linear sRGB, or
 /// a value per wavelength).
 pub fn radiance<T: Transport>(scene: &Scene, ray: Ray, t: &mut T, s: &mut Sampler) -> T::Value {
-    radiance_with(scene, ray, t, s, None, &[])
+    radiance_with(scene, ray, t, s, None, &Unseen::NONE)
 }
 
 /// The uniforms of a path's first diffuse bounce drawn by the render loop
@@ -35,16 +36,17 @@ pub struct FirstBounce {
 }
 
 /// [`radiance`] with the first diffuse bounce's uniforms given, and the
-/// emitters `unseen` (sorted primitives) counted as black where the ray
-/// itself meets them: a real lens's lamps, whose directly seen light the
-/// render traces from the lamps (`camera::lamp_light`).
+/// emitters and environment directions `unseen` counted as black where
+/// the ray itself meets them: a real lens's lamps and bright sky, whose
+/// directly seen light the render traces from them
+/// ([`crate::camera::lamp_light`]).
 pub fn radiance_with<T: Transport>(
     scene: &Scene,
     mut ray: Ray,
     t: &mut T,
     s: &mut Sampler,
     mut first: Option<FirstBounce>,
-    unseen: &[usize],
+    unseen: &Unseen,
 ) -> T::Value {
     let mut l = T::Value::ZERO;
     let mut beta = T::Value::ONE;
@@ -55,6 +57,9 @@ pub fn radiance_with<T: Transport>(
     for depth in 0..MAX_DEPTH {
         let scale = 1.0 + ray.origin.abs().max_element();
         let Some((prim, h)) = scene.intersect(&ray, EPS * scale, f64::INFINITY) else {
+            if depth == 0 && unseen.sky(ray.dir) {
+                break;
+            }
             let le = scene.background.radiance(t, ray.dir);
             match (after_diffuse, &scene.env_sampler) {
                 // an environment is light-sampled too: weigh the two
@@ -65,7 +70,7 @@ pub fn radiance_with<T: Transport>(
         };
         let mat = &scene.materials[scene.material_of[prim]];
         if let Material::Emissive { .. } = mat {
-            if depth == 0 && unseen.binary_search(&prim).is_ok() {
+            if depth == 0 && unseen.prim(prim) {
                 break;
             }
             // emitters that light sampling cannot pick (infinite planes) are

@@ -3,7 +3,7 @@
 //! pixel and aperture samples decorrelated per pixel, deterministic for a
 //! given seed.
 
-use crate::camera::lamp_light::{FilmPlan, LampLight};
+use crate::camera::lamp_light::{FilmPlan, LampLight, Unseen};
 use crate::camera::{Camera, CameraSample, SpectralLane};
 use crate::companions;
 use crate::image::Image;
@@ -159,18 +159,18 @@ struct Plan {
     /// its wavelengths) from which a sample traces its companions
     /// (`companions.rs`).
     companions_from: f64,
-    /// Through a real lens, the lamps whose light is traced from them
-    /// (`camera::lamp_light`), and their primitives, which camera paths
-    /// count as black where they meet them first.
+    /// Through a real lens, the lamps and bright sky whose light is traced
+    /// from them (`camera::lamp_light`), and what camera paths therefore
+    /// count as black where they meet it first.
     lamps: Option<LampLight>,
-    unseen: Vec<usize>,
+    unseen: Unseen,
 }
 
 impl Plan {
     fn new(scene: &Scene, opt: Options, companions: Companions) -> Plan {
         let spp = opt.spp.max(1) as usize;
         let lamps = LampLight::build(scene, spp);
-        let unseen = lamps.as_ref().map(|l| l.lamps()).unwrap_or_default();
+        let unseen = lamps.as_ref().map(|l| l.unseen().clone()).unwrap_or_default();
         Plan {
             width: scene.film.width as usize,
             height: scene.film.height as usize,

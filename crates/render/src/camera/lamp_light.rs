@@ -39,15 +39,16 @@
 //! indices take it.
 
 use super::real_lens::RealLensCamera;
+use super::sky_patches::{self, SkyPatch};
 use super::Camera;
 use crate::geometry::{Shape, EPS};
 use crate::material::Material;
 use crate::rng::{stratified, Sampler};
 use crate::scene::format::FilterSpec;
-use crate::scene::{ColourMode, Scene};
+use crate::scene::{Background, ColourMode, Scene};
 use crate::spectrum::sampled::N;
 use crate::spectrum::{cie, SampledWavelengths};
-use crate::transport::{Rgb, Spectral};
+use crate::transport::{Rgb, Spectral, Transport};
 use glam::{DVec2, DVec3};
 use lens::trace::SpectralBatch;
 use rayon::prelude::*;
@@ -70,6 +71,8 @@ const WAVE: usize = 64;
 #[derive(Debug, Clone)]
 pub struct LampLight {
     lamps: Vec<Lamp>,
+    /// What camera paths leave to the lamps.
+    unseen: Unseen,
     /// z of the front plane, mm (lens frame): in front of the first
     /// surface everywhere inside its clear aperture.
     z0: f64,
@@ -79,25 +82,115 @@ pub struct LampLight {
 /// through, and how its rays are drawn.
 #[derive(Debug, Clone)]
 struct Lamp {
-    /// The emissive sphere's primitive.
-    prim: usize,
-    /// Centre (lens frame, mm) and radius (mm).
-    centre: DVec3,
-    radius: f64,
+    /// Where its light comes from.
+    source: Source,
     /// The probe grid: its lower corner (mm, front plane), cell side (mm),
     /// and which of its `GRID` x `GRID` cells may pass light.
     lo: DVec2,
     cell: f64,
     live: Vec<bool>,
     /// Passes over the front plane: each a jittered grid of spacing
-    /// `spacing` (mm) over the probe grid, the points in live cells traced.
+    /// `spacing` (mm) over the probe grid, the points in live cells traced,
+    /// every ray of a pass along one direction toward the source (its
+    /// uniforms shared): the source's image being smaller than its blur,
+    /// a pass lands as a warped jittered grid over the blur disc, smooth
+    /// pixel to pixel.
     passes: usize,
     spacing: f64,
-    /// Whether all rays of a pass share one direction in the lamp's cone
-    /// (its uniforms): where the lamp's own image is small against its
-    /// blur, a pass's rays then land as a warped jittered grid over the
-    /// blur disc, smooth pixel to pixel.
-    shared: bool,
+}
+
+/// A light source traced into the lens.
+#[derive(Debug, Clone)]
+enum Source {
+    /// An emissive sphere: its primitive, centre (lens frame, mm) and
+    /// radius (mm).
+    Sphere { prim: usize, centre: DVec3, radius: f64 },
+    /// A patch of bright texels of the environment.
+    Sky(SkyPatch),
+}
+
+/// What camera paths count as black where they meet it first, because
+/// [`LampLight`] traces its light from the source: emissive spheres, and
+/// environment texels.
+#[derive(Debug, Clone, Default)]
+pub struct Unseen {
+    prims: Vec<usize>,
+    /// The environment image's size and its traced texels.
+    sky: Option<(usize, usize, Vec<bool>)>,
+}
+
+impl Unseen {
+    /// Nothing unseen.
+    pub const NONE: Unseen = Unseen { prims: Vec::new(), sky: None };
+
+    /// Whether primitive `prim` is traced from its light.
+    pub fn prim(&self, prim: usize) -> bool {
+        self.prims.binary_search(&prim).is_ok()
+    }
+
+    /// Whether the environment along `d` (scene frame) is traced from its
+    /// light.
+    pub fn sky(&self, d: DVec3) -> bool {
+        match &self.sky {
+            Some((w, h, mask)) => {
+                let (x, y) = sky_patches::texel_of(d, *w, *h);
+                mask[y * w + x]
+            }
+            None => false,
+        }
+    }
+}
+
+/// The light a ray carries from its source, evaluated per transport.
+enum Emit<'a> {
+    /// An emissive material seen at `cos` to its normal.
+    Material(&'a Material, f64),
+    /// The environment along a direction (scene frame).
+    Sky(DVec3),
+}
+
+impl Emit<'_> {
+    fn value<T: Transport>(&self, scene: &Scene, t: &T) -> T::Value {
+        match self {
+            Emit::Material(m, cos) => m.emitted(t, *cos),
+            Emit::Sky(d) => scene.background.radiance(t, *d),
+        }
+    }
+}
+
+impl Source {
+    /// A ray from front-plane point `g` (lens frame, mm) toward the source
+    /// drawn with the uniforms `u`: its direction (lens frame, toward the
+    /// source), the inverse of its density per steradian, and what it
+    /// carries; `None` where the scene hides the source from `g` along it.
+    fn sample<'a>(
+        &self,
+        scene: &'a Scene,
+        cam: &RealLensCamera,
+        g: DVec3,
+        u: (f64, f64),
+    ) -> Option<(DVec3, f64, Emit<'a>)> {
+        match self {
+            Source::Sphere { prim, centre, radius } => {
+                let (omega, solid) = cone_sample(g, *centre, *radius, u)?;
+                // unoccluded: the scene ray from g toward the lamp meets it first
+                let ray = cam.ray_to_scene(g, omega);
+                let eps = EPS * (1.0 + ray.origin.abs().max_element());
+                let (hit_prim, hit) = scene.intersect(&ray, eps, f64::INFINITY)?;
+                let cos_out = -ray.dir.dot(hit.n);
+                (hit_prim == *prim && cos_out > 0.0)
+                    .then(|| (omega, solid, Emit::Material(&scene.materials[scene.material_of[*prim]], cos_out)))
+            }
+            Source::Sky(patch) => {
+                let (d, pdf) = patch.sample(u)?;
+                let omega = cam.dir_to_lens(d);
+                // unoccluded: the scene ray from g leaves the scene
+                let ray = cam.ray_to_scene(g, omega);
+                let eps = EPS * (1.0 + ray.origin.abs().max_element());
+                scene.intersect(&ray, eps, f64::INFINITY).is_none().then(|| (omega, 1.0 / pdf, Emit::Sky(ray.dir)))
+            }
+        }
+    }
 }
 
 impl Lamp {
@@ -134,7 +227,7 @@ struct Task {
     lamp: usize,
     pass: usize,
     rows: std::ops::Range<usize>,
-    shared: Option<(f64, f64)>,
+    shared: (f64, f64),
 }
 
 impl LampLight {
@@ -160,29 +253,61 @@ impl LampLight {
         let sag_max = sags.iter().fold(0.0f64, |a, &b| a.max(b));
         let (nms, spectral) = probe_wavelengths(scene, cam);
         let (w, h) = (scene.film.width as usize, scene.film.height as usize);
-        let lamps: Vec<Lamp> = (0..scene.shapes.len())
+        let mut sources: Vec<Source> = (0..scene.shapes.len())
             .filter(|&i| matches!(scene.materials[scene.material_of[i]], Material::Emissive { .. }))
             .filter_map(|i| match scene.shapes[i] {
-                Shape::Sphere { center, radius } => Some((i, center, radius)),
+                Shape::Sphere { center, radius } => {
+                    Some(Source::Sphere { prim: i, centre: cam.point_to_lens(center), radius: radius * 1e3 })
+                }
                 _ => None,
             })
-            .collect::<Vec<_>>()
+            .collect();
+        let env = match &scene.background {
+            Background::Environment(img) => Some((img.width, img.height)),
+            _ => None,
+        };
+        if let Background::Environment(img) = &scene.background {
+            sources.extend(sky_patches::find(img).into_iter().map(Source::Sky));
+        }
+        let lamps: Vec<Lamp> = sources
             .into_par_iter()
-            .filter_map(|(prim, c, r)| {
+            .filter_map(|source| {
                 let probe = Probe { cam, z0, nms: &nms, spectral, film: (w, h) };
-                probe.lamp(prim, cam.point_to_lens(c), r * 1e3, sd, sag_max, spp)
+                probe.model(source, sd, sag_max, spp)
             })
             .collect();
-        (!lamps.is_empty()).then_some(LampLight { lamps, z0 })
+        let mut unseen = Unseen::default();
+        for l in &lamps {
+            match &l.source {
+                Source::Sphere { prim, .. } => unseen.prims.push(*prim),
+                Source::Sky(patch) => {
+                    let (w, h) = env.expect("a sky patch comes from an environment");
+                    let mask = unseen.sky.get_or_insert_with(|| (w, h, vec![false; w * h]));
+                    for &k in patch.texels() {
+                        mask.2[k] = true;
+                    }
+                }
+            }
+        }
+        unseen.prims.sort_unstable();
+        (!lamps.is_empty()).then_some(LampLight { lamps, unseen, z0 })
     }
 
     /// The primitives whose light seen directly through the lens comes
     /// from here (sorted): camera paths count nothing for them at their
     /// first hit.
-    pub fn lamps(&self) -> Vec<usize> {
-        let mut v: Vec<usize> = self.lamps.iter().map(|l| l.prim).collect();
-        v.sort_unstable();
-        v
+    pub fn lamps(&self) -> &[usize] {
+        &self.unseen.prims
+    }
+
+    /// The patches of the environment traced from their light.
+    pub fn sky_patches(&self) -> usize {
+        self.lamps.iter().filter(|l| matches!(l.source, Source::Sky(_))).count()
+    }
+
+    /// What camera paths count as black where they meet it first.
+    pub fn unseen(&self) -> &Unseen {
+        &self.unseen
     }
 
     /// Adds the lamps' light to `film` (linear sRGB, `width * height`
@@ -200,10 +325,10 @@ impl LampLight {
             let n = l.points();
             let rows = (TASK_RAYS / n).max(1);
             for pass in 0..l.passes {
-                let shared = l.shared.then(|| match dirs.get(pass) {
+                let shared = match dirs.get(pass) {
                     Some(&k) => stratified(k, q, s.next2()),
                     None => s.next2(),
-                });
+                };
                 for r in (0..n).step_by(rows) {
                     tasks.push(Task { lamp: li, pass, rows: r..(r + rows).min(n), shared });
                 }
@@ -231,7 +356,6 @@ impl LampLight {
             _ => (false, 1),
         };
         let primary = p.wavelength_nm();
-        let mat = &scene.materials[scene.material_of[l.prim]];
         let a_pix = cam.sensor_mm()[0] * cam.sensor_mm()[1] / (plan.width * plan.height) as f64;
         let scale = l.spacing * l.spacing / (l.passes as f64 * cam.centre_weight() * a_pix);
         let count = task.rows.len() * n;
@@ -246,22 +370,14 @@ impl LampLight {
             // wavelengths stratified over the task's rays (a ray's own,
             // so a dispersive lens's fringes are sampled by every ray)
             let u_wl = (wl_order[k] as f64 + s.uniform()) / count as f64;
-            let u_dir = task.shared.unwrap_or_else(|| s.next2());
+            let u_dir = task.shared;
             if !l.is_live(g2) {
                 continue;
             }
             let g = DVec3::new(g2.x, g2.y, self.z0);
-            let Some((omega, solid)) = cone_sample(g, l.centre, l.radius, u_dir) else { continue };
+            let Some((omega, solid, emit)) = l.source.sample(scene, cam, g, u_dir) else { continue };
             let d_in = -omega;
             if d_in.z <= 0.0 {
-                continue;
-            }
-            // unoccluded: the scene ray from g toward the lamp meets it first
-            let ray = cam.ray_to_scene(g, omega);
-            let eps = EPS * (1.0 + ray.origin.abs().max_element());
-            let Some((prim, hit)) = scene.intersect(&ray, eps, f64::INFINITY) else { continue };
-            let cos_out = -ray.dir.dot(hit.n);
-            if prim != l.prim || cos_out <= 0.0 {
                 continue;
             }
             let weight = d_in.z * solid * scale;
@@ -269,16 +385,16 @@ impl LampLight {
             let carry = match plan.colour {
                 ColourMode::Rgb => {
                     batch.push(into, primary);
-                    Carry::Rgb(mat.emitted(&Rgb, cos_out))
+                    Carry::Rgb(emit.value(scene, &Rgb))
                 }
                 ColourMode::Monochromatic(nm) => {
                     batch.push(into, *nm);
                     let wl = SampledWavelengths::single(*nm);
-                    Carry::Grey(mat.emitted(&Spectral::new(wl), cos_out).0[0])
+                    Carry::Grey(emit.value(scene, &Spectral::new(wl)).0[0])
                 }
                 ColourMode::Spectral(range) => {
                     let wl = range.sample_four(u_wl);
-                    let le = mat.emitted(&Spectral::new(wl), cos_out);
+                    let le = emit.value(scene, &Spectral::new(wl));
                     if spectral {
                         for nm in wl.nm {
                             batch.push(into, nm);
@@ -405,6 +521,10 @@ fn probe_wavelengths(scene: &Scene, cam: &RealLensCamera) -> (Vec<f64>, bool) {
     }
 }
 
+/// The directions probed from a front-plane point toward a source (lens
+/// frame, the first its centre), given the probe grid's cell size (mm).
+type ProbeDirections = dyn Fn(DVec3, f64) -> Vec<DVec3>;
+
 /// What probing a lamp's cells shares.
 struct Probe<'a> {
     cam: &'a RealLensCamera,
@@ -429,17 +549,54 @@ impl Probe<'_> {
     /// The model of the lamp at `c` (lens frame, mm) of radius `r` (mm),
     /// or `None` when it cannot be traced this way (see
     /// [`LampLight::build`]).
-    fn lamp(&self, prim: usize, c: DVec3, r: f64, sd: f64, sag_max: f64, spp: usize) -> Option<Lamp> {
-        let depth = self.z0 - c.z - r;
-        if !(depth > 0.0 && r > 0.0 && c.is_finite()) {
-            return None;
-        }
-        // every ray of the lamp that meets the first surface inside its
+    fn model(&self, source: Source, sd: f64, sag_max: f64, spp: usize) -> Option<Lamp> {
+        let z_rear = self.cam.prescription().last_vertex_z();
+        // the directions probed from a front-plane point toward the source
+        // (the first its centre), given the cell size; and the steepest
+        // ray's tangent to the axis
+        let (dirs, tan): (Box<ProbeDirections>, f64) = match &source {
+            Source::Sphere { centre: c, radius: r, .. } => {
+                let (c, r) = (*c, *r);
+                let depth = self.z0 - c.z - r;
+                if !(depth > 0.0 && r > 0.0 && c.is_finite()) {
+                    return None;
+                }
+                let alpha = (r / (c - DVec3::new(0.0, 0.0, self.z0)).length()).min(1.0).asin();
+                let shift = alpha * (z_rear - self.z0).max(1.0);
+                (Box::new(move |g, cell| sphere_probes(g, c, r, shift, cell)), (c.x.hypot(c.y) + r) / depth)
+            }
+            Source::Sky(patch) => {
+                let dirs: Vec<DVec3> = patch.probe_directions().into_iter().map(|d| self.cam.dir_to_lens(d)).collect();
+                if dirs[0].z >= -1e-3 {
+                    return None;
+                }
+                let tan = dirs.iter().filter(|d| d.z < 0.0).map(|d| d.x.hypot(d.y) / -d.z).fold(0.0, f64::max);
+                // the directions whose shifts at the stop differ by at
+                // least half a cell (made once per grid)
+                let depth = (z_rear - self.z0).max(1.0);
+                let cache = std::cell::RefCell::new((0.0, Vec::new()));
+                let thinned = move |_: DVec3, cell: f64| {
+                    let mut c = cache.borrow_mut();
+                    if c.0 != cell {
+                        *c = (cell, thin(&dirs, depth, 0.5 * cell));
+                    }
+                    c.1.clone()
+                };
+                (Box::new(thinned), tan.min(10.0))
+            }
+        };
+        // every ray of the source that meets the first surface inside its
         // clear aperture crosses the front plane within rho of the axis
-        let tan = (c.x.hypot(c.y) + r) / depth;
         let rho = sd + (sag_max - self.z0) * tan + 0.5;
         let coarse = 2.0 * rho / COARSE as f64;
-        let first = self.grid(c, r, DVec2::splat(-rho), coarse, COARSE, &self.nms[..1]);
+        let first = self.grid(&*dirs, DVec2::splat(-rho), coarse, COARSE, &self.nms[..1]);
+        // a source whose own image is as large as its blur is left to the
+        // camera paths, which do better where an image is resolved
+        let (clo, chi) = bounds(&first.centres);
+        let blur = (chi - clo).length();
+        if first.centres.is_empty() || 2.0 * first.spread >= blur {
+            return None;
+        }
         let live = dilate(&first.live, COARSE);
         // the bounding box of the live cells, probed again finer at every
         // probe wavelength
@@ -453,7 +610,7 @@ impl Probe<'_> {
             return None;
         }
         let cell = (hi - lo).max_element() / GRID as f64;
-        let fine = self.grid(c, r, lo, cell, GRID, self.nms);
+        let fine = self.grid(&*dirs, lo, cell, GRID, self.nms);
         let live = dilate(&fine.live, GRID);
         let live_cells = live.iter().filter(|l| **l).count();
         if live_cells == 0 || fine.centres.is_empty() {
@@ -469,50 +626,26 @@ impl Probe<'_> {
         let sparse = fine.points.len() < 2 * pixels.len();
         let ellipse = 0.25 * PI * (phi - plo + 1.0).element_product();
         let area = if sparse { (pixels.len() as f64).max(ellipse) } else { pixels.len() as f64 };
-        // the blur disc (centre probes) against the lamp's own image
-        let (clo, chi) = bounds(&fine.centres);
-        let blur = (chi - clo).length();
-        let shared = 2.0 * fine.spread < 0.5 * blur;
         let pass = fine.centres.len() as f64 / live_cells as f64;
         let rays = BUDGET * spp as f64 * area / pass.max(0.02);
-        let passes = if shared { spp.max(1) } else { 1 };
+        let passes = spp.max(1);
         let live_area = live_cells as f64 * cell * cell;
         let spacing = (live_area * passes as f64 / rays).sqrt().max(GRID as f64 * cell / 4096.0);
-        Some(Lamp { prim, centre: c, radius: r, lo, cell, live, passes, spacing, shared })
+        Some(Lamp { source, lo, cell, live, passes, spacing })
     }
 
     /// Probes a `size` x `size` grid of cells of side `cell` from `lo`
-    /// (front plane, mm): a ray from each cell's centre toward the lamp's
-    /// centre and toward points of rings across its disc (as many as keep
-    /// their shifts at the stop within a cell), at each of `nms`.
-    fn grid(&self, c: DVec3, r: f64, lo: DVec2, cell: f64, size: usize, nms: &[f64]) -> Probed {
+    /// (front plane, mm): a ray from each cell's centre along each of
+    /// `dirs(centre, cell)` (toward the source, lens frame; the first its
+    /// centre), at each of `nms`.
+    fn grid(&self, dirs: &dyn Fn(DVec3, f64) -> Vec<DVec3>, lo: DVec2, cell: f64, size: usize, nms: &[f64]) -> Probed {
         let cam = self.cam;
-        let z_rear = cam.prescription().last_vertex_z();
-        let alpha = (r / (c - DVec3::new(0.0, 0.0, self.z0)).length()).min(1.0).asin();
-        let shift = alpha * (z_rear - self.z0).max(1.0);
-        let rings = ((shift / cell).ceil() as usize).clamp(1, 8);
-        let mut offsets = vec![(0.0, 0.0)];
-        for k in 1..=rings {
-            let frac = 0.999 * k as f64 / rings as f64;
-            let m = ((2.0 * PI * frac * shift / cell).ceil() as usize).clamp(6, 64);
-            offsets.extend((0..m).map(|j| (frac, 2.0 * PI * j as f64 / m as f64)));
-        }
-        let mut batch = SpectralBatch::with_capacity(size * size * offsets.len() * nms.len());
+        let mut batch = SpectralBatch::with_capacity(size * size * nms.len());
         let mut owner = Vec::with_capacity(batch.len());
         for k in 0..size * size {
             let g =
                 DVec3::new(lo.x + ((k % size) as f64 + 0.5) * cell, lo.y + ((k / size) as f64 + 0.5) * cell, self.z0);
-            let to = c - g;
-            let dist = to.length();
-            if dist <= r {
-                continue;
-            }
-            let a = to / dist;
-            let (e1, e2) = a.any_orthonormal_pair();
-            let half = (r / dist).asin();
-            for (o, &(frac, phi)) in offsets.iter().enumerate() {
-                let th = frac * half;
-                let omega = a * th.cos() + (e1 * phi.cos() + e2 * phi.sin()) * th.sin();
+            for (o, omega) in dirs(g, cell).into_iter().enumerate() {
                 for (wi, &nm) in nms.iter().enumerate() {
                     batch.push(lens::Ray { origin: g, direction: -omega }, nm);
                     owner.push((k, o, wi == 0));
@@ -549,6 +682,48 @@ impl Probe<'_> {
         }
         out
     }
+}
+
+/// Directions from front-plane point `g` toward the sphere (`c`, `r`) (lens
+/// frame, mm): its centre, then rings across its disc, as many as keep
+/// their shifts at the stop (`shift` for the whole disc) within a `cell`.
+/// None from inside the sphere.
+fn sphere_probes(g: DVec3, c: DVec3, r: f64, shift: f64, cell: f64) -> Vec<DVec3> {
+    let to = c - g;
+    let dist = to.length();
+    if dist <= r {
+        return Vec::new();
+    }
+    let a = to / dist;
+    let (e1, e2) = a.any_orthonormal_pair();
+    let half = (r / dist).asin();
+    let rings = ((shift / cell).ceil() as usize).clamp(1, 8);
+    let mut out = vec![a];
+    for k in 1..=rings {
+        let frac = 0.999 * k as f64 / rings as f64;
+        let m = ((2.0 * PI * frac * shift / cell).ceil() as usize).clamp(6, 64);
+        let th = frac * half;
+        out.extend((0..m).map(|j| {
+            let phi = 2.0 * PI * j as f64 / m as f64;
+            a * th.cos() + (e1 * phi.cos() + e2 * phi.sin()) * th.sin()
+        }));
+    }
+    out
+}
+
+/// The directions of `dirs` (lens frame, toward the source, the first
+/// kept) whose shifts at a plane `depth` mm behind the front plane are at
+/// least `tolerance` mm from every direction kept before them.
+fn thin(dirs: &[DVec3], depth: f64, tolerance: f64) -> Vec<DVec3> {
+    let shift = |d: &DVec3| DVec2::new(d.x, d.y) * (depth / -d.z.min(-1e-6));
+    let mut kept: Vec<(DVec3, DVec2)> = Vec::new();
+    for d in dirs {
+        let s = shift(d);
+        if kept.iter().all(|(_, k)| (*k - s).length() >= tolerance) {
+            kept.push((*d, s));
+        }
+    }
+    kept.into_iter().map(|(d, _)| d).collect()
 }
 
 /// The bounding box of `points`.

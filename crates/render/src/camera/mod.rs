@@ -6,6 +6,7 @@ pub mod aperture;
 pub mod lamp_light;
 pub mod pupil;
 pub mod real_lens;
+pub mod sky_patches;
 
 use crate::geometry::Ray;
 use crate::spectrum::sampled::N;

@@ -565,6 +565,11 @@ impl RealLensCamera {
         self.to_lens(&Ray { origin: p, dir: self.frame.forward }).0
     }
 
+    /// A scene direction in the lens frame.
+    pub(crate) fn dir_to_lens(&self, d: DVec3) -> DVec3 {
+        self.to_lens(&Ray { origin: self.frame.origin, dir: d }).1
+    }
+
     /// A lens-frame point (mm) and direction as a scene ray (m).
     pub(crate) fn ray_to_scene(&self, p: DVec3, d: DVec3) -> Ray {
         self.lens_to_scene(p, d)

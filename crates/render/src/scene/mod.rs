@@ -173,11 +173,7 @@ impl Background {
         match self {
             Background::Constant(c) => t.radiance(c),
             Background::Environment(img) => {
-                // longitude from +z toward +x, latitude from +y down
-                let u = 0.5 + d.x.atan2(d.z) / std::f64::consts::TAU;
-                let v = d.y.clamp(-1.0, 1.0).acos() / std::f64::consts::PI;
-                let x = ((u * img.width as f64) as usize).min(img.width - 1);
-                let y = ((v * img.height as f64) as usize).min(img.height - 1);
+                let (x, y) = crate::camera::sky_patches::texel_of(d, img.width, img.height);
                 t.rgb_radiance(img.pixels[y * img.width + x])
             }
             Background::Sky { horizon, zenith, ground } => {

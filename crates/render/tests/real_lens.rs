@@ -453,3 +453,28 @@ fn a_tilted_lens_is_refused_with_the_reason() {
     std::fs::remove_dir_all(&dir).ok();
     assert!(e.contains("decentred or tilted") && e.contains("remove the motions"), "{e}");
 }
+
+/// An in-focus point lamp through the double Gauss at f/2, traced from the
+/// lamp, images as the lens crate's spot: on a film of 2 um pixels at the
+/// real-ray best focus (autofocus on the lamp), its RMS radius equals the
+/// crate's RMS radius at best focus within 2%.
+#[test]
+fn an_in_focus_lamp_images_as_the_lens_crates_spot() {
+    let s = scene(
+        r#"{"camera": {"type": "lens", "position": [0,0,0], "look_at": [0,0,1], "prescription": "../double-gauss-50mm.json",
+                       "f_number": 2, "focus_on": "lamp", "sensor_mm": [0.2, 0.2]},
+            "film": {"width": 100, "height": 100, "spp": 16, "spectral": "off"},
+            "background": {"type": "constant", "radiance": [0, 0, 0]},
+            "materials": {"lamp": {"type": "emissive", "radiance": [1000, 1000, 1000]}},
+            "shapes": [{"type": "sphere", "name": "lamp", "center": [0, 0, 2], "radius": 0.00002, "material": "lamp"}]}"#,
+    );
+    let render::camera::Camera::Real(cam) = &s.camera else { panic!("a real lens") };
+    let p = cam.prescription();
+    let object = lens::paraxial::ObjectDistance::Finite(2000.0 - p.total_track());
+    let want = lens::analysis::focus::focus(p, object).unwrap().rms_radius_at_best_focus * 1e3;
+    let (img, _) = render(&s, Options { spp: 64, seed: 1 }, &|_| {});
+    let (cx, cy, rms_px) = moments(&img);
+    let got = rms_px * 2.0;
+    assert!((cx - 50.0).abs() < 0.5 && (cy - 50.0).abs() < 0.5, "centroid {cx}, {cy}");
+    assert!((got / want - 1.0).abs() < 0.02, "RMS radius: rendered {got:.3} um, lens crate {want:.3} um");
+}

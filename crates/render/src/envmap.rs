@@ -78,12 +78,11 @@ impl EnvSampler {
         let left = if x == 0 { 0.0 } else { row[x - 1] };
         let fx = ((u.1 - left) / (row[x] - left).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
         let (uu, vv) = ((x as f64 + fx) / w as f64, (y as f64 + fy) / h as f64);
-        let (theta, phi) = (vv * PI, (uu - 0.5) * TAU);
-        let st = theta.sin();
+        let st = (vv * PI).sin();
         if st <= 0.0 {
             return None;
         }
-        let d = DVec3::new(st * phi.sin(), theta.cos(), st * phi.cos());
+        let d = direction(uu, vv);
         let pdf = self.prob[y * w + x] * (w * h) as f64 / (TAU * PI * st);
         (pdf > 0.0).then_some((d, pdf))
     }
@@ -91,16 +90,22 @@ impl EnvSampler {
     /// The density per solid angle with which [`Self::sample`] draws `d`.
     pub fn pdf(&self, d: DVec3) -> f64 {
         let (w, h) = (self.width, self.height);
-        let u = 0.5 + d.x.atan2(d.z) / TAU;
+        let (x, y) = crate::camera::sky_patches::texel_of(d, w, h);
         let v = d.y.clamp(-1.0, 1.0).acos() / PI;
-        let x = ((u * w as f64) as usize).min(w - 1);
-        let y = ((v * h as f64) as usize).min(h - 1);
         let st = (v * PI).sin();
         if st <= 0.0 {
             return 0.0;
         }
         self.prob[y * w + x] * (w * h) as f64 / (TAU * PI * st)
     }
+}
+
+/// The direction (scene frame, unit) at equirectangular image coordinates
+/// (u, v) in [0, 1]: longitude from +z toward +x, latitude from +y down
+/// (the inverse of `camera::sky_patches::texel_of`'s mapping).
+pub fn direction(u: f64, v: f64) -> DVec3 {
+    let (theta, phi) = (v * PI, (u - 0.5) * TAU);
+    DVec3::new(theta.sin() * phi.sin(), theta.cos(), theta.sin() * phi.cos())
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 //! most powerful traced, any others left to camera paths), each sampled by
 //! its texels' power.
 
+use crate::envmap::direction;
 use crate::image::Image;
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
@@ -27,13 +28,6 @@ pub fn texel_of(d: DVec3, w: usize, h: usize) -> (usize, usize) {
     let u = 0.5 + d.x.atan2(d.z) / TAU;
     let v = d.y.clamp(-1.0, 1.0).acos() / PI;
     (((u * w as f64) as usize).min(w - 1), ((v * h as f64) as usize).min(h - 1))
-}
-
-/// The direction at image coordinates (u, v) in [0, 1] (the inverse of
-/// [`texel_of`]'s mapping).
-fn direction(u: f64, v: f64) -> DVec3 {
-    let (theta, phi) = (v * PI, (u - 0.5) * TAU);
-    DVec3::new(theta.sin() * phi.sin(), theta.cos(), theta.sin() * phi.cos())
 }
 
 /// One patch of bright texels.

@@ -62,6 +62,17 @@ const GRID: usize = 32;
 /// 0.86, 0.41, 0.30, 0.29 at 16 spp, the last at the reference's noise,
 /// for 0.10, 0.15, 0.20, 0.30 s: 8 is the least error for the time).
 const BUDGET: f64 = 8.0;
+/// Emissive spheres traced, at most: the most powerful into the lens
+/// (radiance times cross-section over distance squared); any others are
+/// left to camera paths, so a scene of thousands of small lights does not
+/// spend its time probing them.
+const MAX_SPHERES: usize = 256;
+
+/// Rays traced from all sources together, at most, per camera sample of
+/// the render: a source that fills the frame draws no more than about
+/// what the camera paths cost.
+const MAX_RAYS_PER_SAMPLE: f64 = 2.0;
+
 /// Grid points handled together (one task).
 const TASK_RAYS: usize = 2048;
 /// Tasks run in parallel before their splats are added.
@@ -97,6 +108,8 @@ struct Lamp {
     /// pixel to pixel.
     passes: usize,
     spacing: f64,
+    /// Rays drawn in all (about).
+    rays: f64,
 }
 
 /// A light source traced into the lens.
@@ -262,6 +275,21 @@ impl LampLight {
                 _ => None,
             })
             .collect();
+        // the most powerful spheres, by the flux they send toward the lens
+        if sources.len() > MAX_SPHERES {
+            let flux = |s: &Source| match s {
+                Source::Sphere { prim, centre, radius } => {
+                    let l = match &scene.materials[scene.material_of[*prim]] {
+                        Material::Emissive { radiance } => Rgb.radiance(radiance).max_element(),
+                        _ => 0.0,
+                    };
+                    l * radius * radius / centre.length_squared().max(f64::MIN_POSITIVE)
+                }
+                Source::Sky(_) => f64::INFINITY,
+            };
+            sources.sort_by(|a, b| flux(b).total_cmp(&flux(a)));
+            sources.truncate(MAX_SPHERES);
+        }
         let env = match &scene.background {
             Background::Environment(img) => Some((img.width, img.height)),
             _ => None,
@@ -275,7 +303,18 @@ impl LampLight {
                 let probe = Probe { cam, z0, nms: &nms, spectral, film: (w, h) };
                 probe.model(source, sd, sag_max, spp)
             })
-            .collect();
+            .collect::<Vec<Lamp>>();
+        // at most MAX_RAYS_PER_SAMPLE rays a camera sample: every source's
+        // grid made coarser alike where the sum would pass it
+        let mut lamps = lamps;
+        let total: f64 = lamps.iter().map(|l| l.rays).sum();
+        let cap = MAX_RAYS_PER_SAMPLE * (spp * w * h) as f64;
+        if total > cap {
+            for l in &mut lamps {
+                l.spacing *= (total / cap).sqrt();
+                l.rays *= cap / total;
+            }
+        }
         let mut unseen = Unseen::default();
         for l in &lamps {
             match &l.source {
@@ -298,6 +337,11 @@ impl LampLight {
     /// first hit.
     pub fn lamps(&self) -> &[usize] {
         &self.unseen.prims
+    }
+
+    /// Rays drawn from all sources in a render (about).
+    pub fn rays(&self) -> f64 {
+        self.lamps.iter().map(|l| l.rays).sum()
     }
 
     /// The patches of the environment traced from their light.
@@ -631,7 +675,7 @@ impl Probe<'_> {
         let passes = spp.max(1);
         let live_area = live_cells as f64 * cell * cell;
         let spacing = (live_area * passes as f64 / rays).sqrt().max(GRID as f64 * cell / 4096.0);
-        Some(Lamp { source, lo, cell, live, passes, spacing })
+        Some(Lamp { source, lo, cell, live, passes, spacing, rays })
     }
 
     /// Probes a `size` x `size` grid of cells of side `cell` from `lo`

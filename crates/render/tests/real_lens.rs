@@ -501,3 +501,22 @@ fn many_lamps_and_a_huge_one_stay_bounded() {
     // over four seeds of 2,048 spp is about 1%
     assert!((ta / tb - 1.0).abs() < 0.02, "total light: traced {ta:.4}, camera only {tb:.4}");
 }
+
+/// The bokeh scene (`report-real-lens.json`: 15 lamps through the double
+/// Gauss at f/2, spectral), at 80 x 50: its mean pixel at 1,024 spp with
+/// the lamps traced from the lamps equals camera paths alone (8 seeds of
+/// 512 spp) within three of the latter's standard errors (about 0.6% each).
+#[test]
+fn the_bokeh_scenes_mean_is_the_camera_paths() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/scenes/report-real-lens.json");
+    let mut traced = Scene::load(&path).unwrap();
+    (traced.film.width, traced.film.height) = (80, 50);
+    let mut plain = traced.clone();
+    plain.lamp_tracing = false;
+    let ta = mean_total(&traced, 1024, 1..2);
+    let b: Vec<f64> = (10..18).map(|seed| mean_total(&plain, 512, seed..seed + 1)).collect();
+    let mean = b.iter().sum::<f64>() / b.len() as f64;
+    let se = (b.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (b.len() - 1) as f64 / b.len() as f64).sqrt();
+    assert!(se < 0.01 * mean, "camera paths' standard error {se:.3} of {mean:.3}");
+    assert!((ta - mean).abs() < 3.0 * se, "mean: traced {ta:.4}, camera only {mean:.4} +- {se:.4}");
+}

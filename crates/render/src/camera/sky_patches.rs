@@ -1,6 +1,6 @@
 //! The bright parts of an environment image (a sun, a window, street
 //! lights in a night panorama) as light sources traced into a real lens
-//! (`lamp_light.rs`): the texels at least [`BRIGHT`] times the image's mean
+//! (`lamp_light/`): the texels at least [`BRIGHT`] times the image's mean
 //! radiance, grouped into patches of touching texels (the [`MAX_PATCHES`]
 //! most powerful traced, any others left to camera paths), each sampled by
 //! its texels' power.

@@ -70,13 +70,8 @@ impl EnvSampler {
     /// angle.
     pub fn sample(&self, u: (f64, f64)) -> Option<(DVec3, f64)> {
         let (w, h) = (self.width, self.height);
-        let y = self.rows.partition_point(|c| *c <= u.0).min(h - 1);
-        let below = if y == 0 { 0.0 } else { self.rows[y - 1] };
-        let fy = ((u.0 - below) / (self.rows[y] - below).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
-        let row = &self.cols[y * w..(y + 1) * w];
-        let x = row.partition_point(|c| *c <= u.1).min(w - 1);
-        let left = if x == 0 { 0.0 } else { row[x - 1] };
-        let fx = ((u.1 - left) / (row[x] - left).max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        let (y, _, fy) = cdf_step(&self.rows, u.0);
+        let (x, _, fx) = cdf_step(&self.cols[y * w..(y + 1) * w], u.1);
         let (uu, vv) = ((x as f64 + fx) / w as f64, (y as f64 + fy) / h as f64);
         let st = (vv * PI).sin();
         if st <= 0.0 {
@@ -98,6 +93,16 @@ impl EnvSampler {
         }
         self.prob[y * w + x] * (w * h) as f64 / (TAU * PI * st)
     }
+}
+
+/// The step of the cumulative distribution `cdf` (non-decreasing, the
+/// last 1, not empty) that uniform `u` falls in: its index, its
+/// probability, and where `u` lies within it (0 to 1).
+pub fn cdf_step(cdf: &[f64], u: f64) -> (usize, f64, f64) {
+    let i = cdf.partition_point(|c| *c <= u).min(cdf.len() - 1);
+    let below = if i == 0 { 0.0 } else { cdf[i - 1] };
+    let p = cdf[i] - below;
+    (i, p, ((u - below) / p.max(f64::MIN_POSITIVE)).clamp(0.0, 1.0))
 }
 
 /// The direction (scene frame, unit) at equirectangular image coordinates

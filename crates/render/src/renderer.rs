@@ -8,7 +8,7 @@ use crate::camera::{Camera, CameraSample, SpectralLane};
 use crate::companions;
 use crate::image::Image;
 use crate::integrator::{radiance_with, FirstBounce};
-use crate::rng::{stratified, Sampler};
+use crate::rng::{shuffle, stratified, Sampler};
 use crate::scene::format::{CompanionsSpec, FilterSpec};
 use crate::scene::{ColourMode, Scene};
 use crate::spectrum::sampled::N;
@@ -550,14 +550,6 @@ fn from_stratum(order: &[usize], k: usize, strata: usize, s: &mut Sampler) -> (f
     match order.get(k) {
         Some(&o) => stratified(o, strata, s.next2()),
         None => s.next2(),
-    }
-}
-
-/// Shuffles `v` uniformly (Fisher-Yates) with the pixel's stream.
-fn shuffle(v: &mut [usize], s: &mut Sampler) {
-    for i in (1..v.len()).rev() {
-        let j = ((s.uniform() * (i + 1) as f64) as usize).min(i);
-        v.swap(i, j);
     }
 }
 

@@ -29,6 +29,14 @@ impl Sampler {
     }
 }
 
+/// Shuffles `v` uniformly (Fisher-Yates) with the stream `s`.
+pub fn shuffle(v: &mut [usize], s: &mut Sampler) {
+    for i in (1..v.len()).rev() {
+        let j = ((s.uniform() * (i + 1) as f64) as usize).min(i);
+        v.swap(i, j);
+    }
+}
+
 /// The (i, j) cell of an n x n stratification of sample `k` (0 <= k < n^2),
 /// jittered by `u`: stratified samples for pixels and apertures.
 pub fn stratified(k: usize, n: usize, u: (f64, f64)) -> (f64, f64) {

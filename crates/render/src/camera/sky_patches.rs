@@ -5,7 +5,7 @@
 //! most powerful traced, any others left to camera paths), each sampled by
 //! its texels' power.
 
-use crate::envmap::direction;
+use crate::envmap::{cdf_step, direction};
 use crate::image::Image;
 use glam::DVec3;
 use std::f64::consts::{PI, TAU};
@@ -121,10 +121,7 @@ impl SkyPatch {
     /// `u`: a texel by its power, uniform in its longitude and latitude;
     /// and its density per steradian.
     pub fn sample(&self, u: (f64, f64)) -> Option<(DVec3, f64)> {
-        let i = self.cdf.partition_point(|c| *c <= u.0).min(self.texels.len() - 1);
-        let below = if i == 0 { 0.0 } else { self.cdf[i - 1] };
-        let p = self.cdf[i] - below;
-        let fx = ((u.0 - below) / p.max(f64::MIN_POSITIVE)).clamp(0.0, 1.0);
+        let (i, p, fx) = cdf_step(&self.cdf, u.0);
         let k = self.texels[i];
         let (x, y) = (k % self.w, k / self.w);
         let (uu, vv) = ((x as f64 + fx) / self.w as f64, (y as f64 + u.1) / self.h as f64);

@@ -45,7 +45,7 @@ use super::sky_patches::{self, SkyPatch};
 use super::Camera;
 use crate::geometry::{Shape, EPS};
 use crate::material::Material;
-use crate::rng::{stratified, Sampler};
+use crate::rng::{shuffle, stratified, Sampler};
 use crate::scene::format::FilterSpec;
 use crate::scene::{Background, ColourMode, Scene};
 use crate::spectrum::sampled::N;
@@ -302,16 +302,15 @@ impl LampLight {
         if let Background::Environment(img) = &scene.background {
             sources.extend(sky_patches::find(img).into_iter().map(Source::Sky));
         }
-        let lamps: Vec<Lamp> = sources
+        let mut lamps: Vec<Lamp> = sources
             .into_par_iter()
             .filter_map(|source| {
                 let probe = Probe { cam, z0, nms: &nms, spectral, film: (w, h) };
                 probe.model(source, sd, sag_max, spp)
             })
-            .collect::<Vec<Lamp>>();
+            .collect();
         // at most MAX_RAYS_PER_SAMPLE rays a camera sample: every source's
         // grid made coarser alike where the sum would pass it
-        let mut lamps = lamps;
         let total: f64 = lamps.iter().map(|l| l.rays).sum();
         let cap = MAX_RAYS_PER_SAMPLE * (spp * w * h) as f64;
         if total > cap {
@@ -369,8 +368,8 @@ impl LampLight {
             // random order
             let mut s = Sampler::new(plan.seed ^ 0x6c61_6d70_7061_7373, li as u64);
             let q = (l.passes as f64).sqrt().floor() as usize;
-            let mut dirs = Vec::new();
-            shuffle_into(&mut dirs, q * q, &mut s);
+            let mut dirs: Vec<usize> = (0..q * q).collect();
+            shuffle(&mut dirs, &mut s);
             let n = l.points();
             let rows = (TASK_RAYS / n).max(1);
             for pass in 0..l.passes {
@@ -411,8 +410,8 @@ impl LampLight {
         let mut batch = SpectralBatch::with_capacity(count * lanes);
         // per ray: its weight (without T) and what it carries
         let mut rays: Vec<(f64, Carry)> = Vec::with_capacity(count);
-        let mut wl_order = Vec::new();
-        shuffle_into(&mut wl_order, count, &mut s);
+        let mut wl_order: Vec<usize> = (0..count).collect();
+        shuffle(&mut wl_order, &mut s);
         for (k, (j, i)) in task.rows.clone().flat_map(|j| (0..n).map(move |i| (j, i))).enumerate() {
             let (jx, jy) = s.next2();
             let g2 = l.lo + DVec2::new(i as f64 + jx, j as f64 + jy) * l.spacing;
@@ -542,14 +541,4 @@ fn cone_sample(g: DVec3, c: DVec3, r: f64, u: (f64, f64)) -> Option<(DVec3, f64)
     let phi = 2.0 * PI * u.1;
     let (e1, e2) = a.any_orthonormal_pair();
     Some(((a * cos + (e1 * phi.cos() + e2 * phi.sin()) * sin).normalize(), 2.0 * PI * (1.0 - cos_max)))
-}
-
-/// The numbers 0..n in a random order of `s`'s (Fisher-Yates).
-fn shuffle_into(v: &mut Vec<usize>, n: usize, s: &mut Sampler) {
-    v.clear();
-    v.extend(0..n);
-    for i in (1..n).rev() {
-        let j = ((s.uniform() * (i + 1) as f64) as usize).min(i);
-        v.swap(i, j);
-    }
 }

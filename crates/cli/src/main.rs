@@ -29,6 +29,7 @@ mod convert;
 mod fan;
 mod field;
 mod focus;
+mod ghosts;
 mod glass;
 mod info;
 mod layout;
@@ -80,6 +81,8 @@ enum Command {
     Field(field::Args),
     /// Colour: focal shift, lateral colour, polychromatic spot, fans per wavelength.
     Chromatic(chromatic::Args),
+    /// Ghost reflections between surface pairs: paraxial focus, height, blur and irradiance.
+    Ghosts(ghosts::Args),
     /// A glass's index, nd, vd and range; its dispersion or the glass map as a plot.
     Glass(glass::Args),
     /// Draw the lens cross-section with ray bundles.
@@ -117,6 +120,7 @@ fn main() -> ExitCode {
         Command::Coc(a) => coc::run(a),
         Command::Field(a) => field::run(a),
         Command::Chromatic(a) => chromatic::run(a),
+        Command::Ghosts(a) => ghosts::run(a),
         Command::Glass(a) => glass::run(a),
         Command::Layout(a) => layout::run(a),
         Command::Convergence(a) => convergence::run(a),

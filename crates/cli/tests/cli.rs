@@ -888,3 +888,36 @@ fn convert_writes_codev_and_pbrt_lens_files() {
     assert!(err.contains("only a pbrt-v4 .dat output"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `lens ghosts --json`: every two-reflection ghost with the contract keys
+/// (surfaces numbered from 1, i < j), and the plot written; a bad field is
+/// an error naming the flag.
+#[test]
+fn ghosts_json_lists_every_pair_with_the_contract_keys() {
+    let (code, out, err) = lens(&["ghosts", "lens-data/double-gauss-50mm.json", "--field-deg", "10", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v = json(&out);
+    let ghosts = v["ghosts"].as_array().unwrap();
+    // 10 glass-air or cemented surfaces and a stop in air: 10 * 9 / 2 pairs
+    assert_eq!(ghosts.len(), 45);
+    for g in ghosts {
+        let s = g["surfaces"].as_array().unwrap();
+        assert!(s[0].as_u64().unwrap() >= 1 && s[0].as_u64() < s[1].as_u64(), "{g}");
+        for k in ["focus_z_mm", "image_height_mm", "radius_mm", "intensity"] {
+            assert!(g.get(k).is_some(), "{k} missing: {g}");
+        }
+        assert!(g["radius_mm"].as_f64().unwrap() >= 0.0);
+        let i = g["intensity"].as_f64().unwrap();
+        assert!(i > 0.0 && i < 0.01, "{g}");
+    }
+    let dir = std::env::temp_dir().join(format!("lens-ghosts-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let plot = dir.join("ghosts.svg");
+    let (code, _, err) =
+        lens(&["ghosts", "lens-data/double-gauss-50mm.json", "--field-deg", "5", "--plot", plot.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::read_to_string(&plot).unwrap().contains("<svg"));
+    let (code, _, err) = lens(&["ghosts", "lens-data/double-gauss-50mm.json", "--field-deg", "95"]);
+    assert_eq!(code, 1);
+    assert!(err.contains("--field-deg"), "{err}");
+}

@@ -14,6 +14,10 @@ use std::f64::consts::PI;
 /// left out).
 pub const MGF2_INDEX: f64 = 1.3777;
 
+/// The wavelength a prescription's `"MgF2"` coating is a quarter wave at,
+/// nm: mid-visible, where the eye is most sensitive (the usual choice).
+pub const MGF2_DESIGN_NM: f64 = 550.0;
+
 /// A surface's coating.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Coating {

@@ -8,6 +8,9 @@
 //! - [`trace`]: exact real-ray tracing, one ray ([`Tracer::trace`]) or a
 //!   batch ([`Tracer::trace_soa`], [`Tracer::trace_batch`]), each ray ending
 //!   in a classified [`Outcome`]; the surface step is written once;
+//! - [`ghost`]: ghost reflections between surfaces: the paraxial ghost
+//!   list, ghost images rasterised from ray grids, and their brute-force
+//!   reference;
 //! - [`glass`]: glass catalogues and dispersion formulas (shipped and
 //!   Zemax AGF), indices at any wavelength;
 //! - [`paraxial`]: first-order optics (focal lengths, cardinal points,
@@ -39,6 +42,7 @@ pub mod analysis;
 pub mod coating;
 pub mod design;
 pub mod error;
+pub mod ghost;
 pub mod glass;
 pub mod io;
 pub mod model;

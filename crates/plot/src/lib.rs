@@ -9,6 +9,7 @@ pub mod coc;
 pub mod fan;
 pub mod field;
 pub mod figure;
+pub mod ghost;
 pub mod glass;
 pub mod layout;
 pub mod raster;

@@ -15,5 +15,5 @@ pub mod validate;
 pub use finding::{has_errors, Finding, Severity};
 pub use placement::Placement;
 pub use prescription::Prescription;
-pub use spec::{ElementSpec, GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
+pub use spec::{CoatingSpec, ElementSpec, GlassSpec, LayerSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 pub use surface::Surface;

@@ -2,9 +2,10 @@
 
 use super::finding::{has_errors, Finding, Severity};
 use super::placement::Placement;
-use super::spec::{ElementSpec, GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
+use super::spec::{CoatingSpec, ElementSpec, GlassSpec, PrescriptionSpec, SurfaceSpec, VignettingFactors};
 use super::surface::Surface;
 use super::validate::validate;
+use crate::coating::{Coating, MGF2_DESIGN_NM};
 use crate::error::OpticsError;
 use crate::glass::{Catalogs, Glass, GlassError, GlassRange, RangeWarning, LINE_C_NM, LINE_D_NM, LINE_F_NM};
 use std::sync::Arc;
@@ -51,6 +52,9 @@ pub struct Prescription {
     /// The focus group's first and last surfaces, 0-based (validated:
     /// a gap before and after it).
     focus_group: Option<(usize, usize)>,
+    /// Each surface's coating as written (`None`: the default, see
+    /// [`Prescription::coating`]).
+    coatings: Vec<Option<Coating>>,
 }
 
 impl Prescription {
@@ -77,8 +81,22 @@ impl Prescription {
         let mut glasses: Vec<Glass> = Vec::new();
         let mut warnings = spec.warnings.clone();
         let mut surfaces: Vec<Surface> = Vec::with_capacity(spec.surfaces.len());
+        let mut coatings = Vec::with_capacity(spec.surfaces.len());
         for (i, s) in spec.surfaces.iter().enumerate() {
             let mut surf = surface_from_spec(s);
+            match s.coating.as_ref().map(|c| c.coating()) {
+                None => coatings.push(None),
+                Some(Ok(c)) => coatings.push(Some(c)),
+                Some(Err(message)) => {
+                    coatings.push(None);
+                    findings.push(Finding {
+                        severity: Severity::Error,
+                        surface: Some(i + 1),
+                        field: Some("coating"),
+                        message,
+                    })
+                }
+            }
             if let Some(g) = &s.glass {
                 let found = match g {
                     GlassSpec::Name(name) => catalogs.resolve(name).map(|(g, w)| {
@@ -144,6 +162,7 @@ impl Prescription {
             warnings,
             elements: spec.elements.clone().unwrap_or_default(),
             focus_group: spec.focus_group.map(|[a, b]| (a - 1, b - 1)),
+            coatings,
         })
     }
 
@@ -305,7 +324,8 @@ impl Prescription {
             surfaces: self
                 .surfaces
                 .iter()
-                .map(|s| {
+                .enumerate()
+                .map(|(i, s)| {
                     let glass = s.glass.and_then(|g| self.glasses.get(g)).map(|g| {
                         match (g.catalog.as_str(), g.catalog_nd, g.catalog_vd) {
                             ("MODEL", Some(nd), Some(vd)) => GlassSpec::Model { nd, vd },
@@ -339,10 +359,44 @@ impl Prescription {
                         focal_length_mm: s.paraxial,
                         decenter_mm: (s.decenter_mm != [0.0; 2]).then_some(s.decenter_mm),
                         tilt_deg: (s.tilt_deg != [0.0; 2]).then_some(s.tilt_deg),
+                        coating: self.coatings.get(i).cloned().flatten().map(|c| CoatingSpec::of(&c)),
                     }
                 })
                 .collect(),
         }
+    }
+
+    /// The coating of surface `i` (0-based): as written, else the default:
+    /// a single MgF2 layer (quarter wave at [`MGF2_DESIGN_NM`]) where one
+    /// side is air (index 1, no glass) and the other is not, bare
+    /// elsewhere (cemented surfaces, air to air). [`Coating::None`] past
+    /// the last surface.
+    pub fn coating(&self, i: usize) -> Coating {
+        if let Some(Some(c)) = self.coatings.get(i) {
+            return c.clone();
+        }
+        let Some(s) = self.surfaces.get(i) else { return Coating::None };
+        let air_before = i == 0 || (self.surfaces[i - 1].glass.is_none() && self.surfaces[i - 1].ior == 1.0);
+        let air_after = s.glass.is_none() && s.ior == 1.0;
+        if air_before != air_after && s.paraxial.is_none() {
+            Coating::MgF2 { design_nm: MGF2_DESIGN_NM }
+        } else {
+            Coating::None
+        }
+    }
+
+    /// Every surface's coating ([`Self::coating`]), in order.
+    pub fn coatings(&self) -> Vec<Coating> {
+        (0..self.surfaces.len()).map(|i| self.coating(i)).collect()
+    }
+
+    /// The same lens with every surface given `coating` (`Some(Coating::None)`:
+    /// all bare), or with the defaults of [`Self::coating`] restored
+    /// (`None`); a renderer's per-lens override.
+    pub fn with_coatings(&self, coating: Option<Coating>) -> Prescription {
+        let mut p = self.clone();
+        p.coatings = vec![coating; self.surfaces.len()];
+        p
     }
 
     /// The focus group's first and last surfaces, 0-based (`None`: the

@@ -212,6 +212,75 @@ pub struct SurfaceSpec {
     /// of order 0, reversed after the surface).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tilt_deg: Option<[f64; 2]>,
+    /// The surface's anti-reflection coating: `"none"`, `"MgF2"` (a
+    /// quarter-wave magnesium fluoride layer at 550 nm), or a list of
+    /// layers from the object side. Omitted: MgF2 where one side is air and
+    /// the other glass, none elsewhere (cemented, air to air).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub coating: Option<CoatingSpec>,
+}
+
+/// A surface's coating as written: a name (`"none"`, `"MgF2"`) or thin
+/// films listed from the object side (the side light comes from on its way
+/// to the image).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum CoatingSpec {
+    /// `"none"` (bare glass) or `"MgF2"` (single layer, quarter wave at
+    /// 550 nm), in any case.
+    Name(String),
+    /// Thin films, object side first.
+    Layers(Vec<LayerSpec>),
+}
+
+/// One thin film of a coating.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LayerSpec {
+    /// Refractive index (lossless, >= 1).
+    pub index: f64,
+    /// Physical thickness, nm (>= 0).
+    pub thickness_nm: f64,
+}
+
+impl CoatingSpec {
+    /// The coating, or what is wrong with it (a sentence naming what to
+    /// change).
+    pub fn coating(&self) -> Result<crate::coating::Coating, String> {
+        use crate::coating::{Coating, Layer, MGF2_DESIGN_NM};
+        match self {
+            CoatingSpec::Name(n) if n.eq_ignore_ascii_case("none") => Ok(Coating::None),
+            CoatingSpec::Name(n) if n.eq_ignore_ascii_case("mgf2") => Ok(Coating::MgF2 { design_nm: MGF2_DESIGN_NM }),
+            CoatingSpec::Name(n) => Err(format!("unknown coating \"{n}\": use \"none\", \"MgF2\" or a list of layers")),
+            CoatingSpec::Layers(l) => {
+                for (k, l) in l.iter().enumerate() {
+                    if !(l.index.is_finite() && l.index >= 1.0) {
+                        return Err(format!("coating layer {}: index {} must be a number >= 1", k + 1, l.index));
+                    }
+                    if !(l.thickness_nm.is_finite() && l.thickness_nm >= 0.0) {
+                        return Err(format!(
+                            "coating layer {}: thickness_nm {} must be a number >= 0",
+                            k + 1,
+                            l.thickness_nm
+                        ));
+                    }
+                }
+                Ok(Coating::Layers(l.iter().map(|l| Layer { index: l.index, thickness_nm: l.thickness_nm }).collect()))
+            }
+        }
+    }
+
+    /// The spec of a coating (the inverse of [`Self::coating`]).
+    pub fn of(c: &crate::coating::Coating) -> Self {
+        use crate::coating::{Coating, MGF2_DESIGN_NM};
+        match c {
+            Coating::None => CoatingSpec::Name("none".into()),
+            Coating::MgF2 { design_nm } if *design_nm == MGF2_DESIGN_NM => CoatingSpec::Name("MgF2".into()),
+            c => CoatingSpec::Layers(
+                c.layers().iter().map(|l| LayerSpec { index: l.index, thickness_nm: l.thickness_nm }).collect(),
+            ),
+        }
+    }
 }
 
 impl SurfaceSpec {
@@ -232,6 +301,7 @@ impl SurfaceSpec {
             focal_length_mm: None,
             decenter_mm: None,
             tilt_deg: None,
+            coating: None,
         }
     }
 

@@ -298,7 +298,12 @@ pub(crate) struct Step {
     /// 0-based surface index (number of surfaces = the film).
     pub surface: usize,
     /// Whether the indices differ (otherwise the direction is kept exactly).
+    /// A [`Self::reflect`] step refracts too (with `mu` 1).
     pub refract: bool,
+    /// Whether the ray is reflected here rather than refracted (a ghost
+    /// path's two reflections): the same kernel with `mu = 1` and the root
+    /// of Snell's `k` negated, `d' = d - 2 (D . N) N`, the medium kept.
+    pub reflect: bool,
     /// How the surface is met: [`PLANE`], [`FLAT`], [`CURVED`] or
     /// [`ASPHERE`].
     pub shape: u8,
@@ -464,6 +469,9 @@ pub(crate) struct StepLanes<L> {
     pub shift: L,
     /// `1 / c` for a [`CURVED`] sphere (0 otherwise).
     pub radius: L,
+    /// `-0` for a reflecting step, `+0` otherwise: xored into the root of
+    /// Snell's `k` (exact: `+0` leaves it alone to the bit).
+    root_sign: L,
 }
 
 impl<L: Real> StepLanes<L> {
@@ -478,6 +486,7 @@ impl<L: Real> StepLanes<L> {
             n_before: L::splat(s.n_before),
             shift: L::splat(s.shift),
             radius: L::splat(if s.shape == CURVED { 1.0 / s.c } else { 0.0 }),
+            root_sign: L::splat(if s.reflect { -0.0 } else { 0.0 }),
         }
     }
 
@@ -573,8 +582,9 @@ pub(crate) struct StepOut<L: Real> {
 pub(crate) fn snell_root<L: Real, const REFRACT: bool>(s: &StepLanes<L>, cos2: L) -> (L, L::Mask) {
     if REFRACT {
         let k = s.k(cos2);
-        // a NaN root where k < 0: the ray stops there, its direction unused
-        (k.sqrt(), !k.is_neg())
+        // a NaN root where k < 0: the ray stops there, its direction unused;
+        // a reflecting step (mu = 1, k = cos^2) takes -cos
+        (k.sqrt().xor(s.root_sign), !k.is_neg())
     } else {
         (L::splat(0.0), L::Mask::all_true())
     }
@@ -589,7 +599,7 @@ pub(crate) fn snell_root<L: Real, const REFRACT: bool>(s: &StepLanes<L>, cos2: L
 pub(crate) fn snell_root_unnormalised<L: Real, const REFRACT: bool>(s: &StepLanes<L>, g: L, q: L) -> (L, L::Mask) {
     if REFRACT {
         let kq = s.k_times(g * g, q);
-        (kq.sqrt(), !kq.is_neg())
+        (kq.sqrt().xor(s.root_sign), !kq.is_neg())
     } else {
         (L::splat(0.0), L::Mask::all_true())
     }
@@ -733,6 +743,7 @@ pub(crate) fn surface_step(
         vertex_z,
         surface: i,
         refract: n1 != n2,
+        reflect: false,
         shape: if surf.paraxial.is_some() { PARAXIAL } else { shape_of(surf.curvature, surf.asphere.is_some()) },
         asphere: surf.asphere,
         zones: surf.asphere.and_then(|a| rings_of(surf.curvature, &a, sd2)),

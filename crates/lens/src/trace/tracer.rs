@@ -7,6 +7,7 @@
 use super::asphere::AsphereLanes;
 use super::ray::{Outcome, Ray};
 use super::step::*;
+use crate::coating::Coating;
 use crate::glass::kernel::Kernel;
 use crate::glass::Glass;
 use crate::model::Prescription;
@@ -41,6 +42,14 @@ pub struct Tracer {
     /// per ray, it cost a ray some 100-250 ns an asphere (its rings
     /// copied, its chains built).
     pub(crate) aspheres: Vec<Option<AsphereLanes<f64>>>,
+    /// Each surface's coating (0-based, as [`Prescription::coating`]).
+    pub(crate) coatings: Arc<[Coating]>,
+    /// The wavelength the steps' indices are for, nm (the coatings'
+    /// interference needs it).
+    pub(crate) wavelength_nm: f64,
+    /// The index before surface 0, then after each surface, at that
+    /// wavelength (a reflection's other side).
+    pub(crate) media: Arc<[f64]>,
 }
 
 /// Each step's asphere in the one-ray path's numbers ([`Tracer::aspheres`]),
@@ -115,6 +124,7 @@ impl Tracer {
             vertex_z: z[last] + film_distance,
             surface: s.len(),
             refract: false,
+            reflect: false,
             shape: PLANE,
             asphere: None,
             zones: None,
@@ -124,12 +134,167 @@ impl Tracer {
         Tracer::with_glasses(steps, p)
     }
 
+    /// The path of a ghost: object space forward to surface `second`
+    /// (0-based), reflected there, back through the surfaces between to
+    /// surface `first` (< `second`), reflected there, and forward through
+    /// the rest of the lens to the film `film_distance` mm behind the last
+    /// vertex. Every clear aperture (the stop's in both directions) clips;
+    /// the reflections keep the medium (`Outcome::Reached` holds the ray on
+    /// the film as for [`Self::forward`]). `None` when `first >= second`,
+    /// `second` is past the last surface, or either surface is an ideal
+    /// (paraxial) one, which has no glass to reflect.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use lens::{Prescription, Tracer, Ray};
+    /// // a plate 10 mm thick: the ghost of its two faces is the axial ray
+    /// // delayed by two crossings
+    /// let p = Prescription::from_json_str(r#"{"surfaces": [
+    ///   {"thickness": 10, "ior": 1.5, "semi_diameter": 10, "stop": true},
+    ///   {"thickness": 20, "semi_diameter": 10}]}"#, "<doc>").unwrap();
+    /// let ghost = Tracer::ghost(&p, 0, 1, 20.0).unwrap();
+    /// let r = ghost.trace(Ray::new(DVec3::new(0.0, 0.0, -5.0), DVec3::Z).unwrap());
+    /// let (ray, opl) = match r { lens::Outcome::Reached { ray, opl } => (ray, opl), o => panic!("{o:?}") };
+    /// assert!((ray.origin.z - 30.0).abs() < 1e-12);
+    /// assert!((opl - (5.0 + 3.0 * 15.0 + 20.0)).abs() < 1e-12);
+    /// ```
+    pub fn ghost(p: &Prescription, first: usize, second: usize, film_distance: f64) -> Option<Self> {
+        let s = p.surfaces();
+        let n = s.len();
+        if first >= second || second >= n || s[first].paraxial.is_some() || s[second].paraxial.is_some() {
+            return None;
+        }
+        let z = p.vertex_z();
+        let placed_at = p.placements();
+        let medium = |i: usize| (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
+        let after = |i: usize| (s[i].ior, s[i].glass);
+        let mut steps: Vec<Step> = Vec::with_capacity(n + 2 * (second - first) + 1);
+        // forward to `second`, each step shifted by the gap before it
+        for i in 0..second {
+            let shift = if i == 0 { z[0] } else { s[i - 1].thickness };
+            steps.push(placed(surface_step(&s[i], i, medium(i), after(i), shift, z[i]), placed_at[i]));
+        }
+        let reflecting = |i: usize, (n, g): (f64, Option<usize>), shift: f64| {
+            let mut step = surface_step(&s[i], i, (n, g), (n, g), shift, z[i]);
+            step.refract = true;
+            step.reflect = true;
+            placed(step, placed_at[i])
+        };
+        steps.push(reflecting(second, medium(second), s[second - 1].thickness));
+        // back from `second` to `first`, in the media between
+        for i in (first + 1..second).rev() {
+            steps.push(placed(surface_step(&s[i], i, after(i), medium(i), -s[i].thickness, z[i]), placed_at[i]));
+        }
+        steps.push(reflecting(first, after(first), -s[first].thickness));
+        // forward again from `first` to the film
+        for i in first + 1..n {
+            steps.push(placed(surface_step(&s[i], i, medium(i), after(i), s[i - 1].thickness, z[i]), placed_at[i]));
+        }
+        let mut t = Self::forward_to_film(p, film_distance);
+        let film = *t.steps.last()?;
+        steps.push(Step { shift: film_distance, ..film });
+        t.steps = steps;
+        t.aspheres = one_ray_aspheres(&t.steps);
+        Some(t)
+    }
+
+    /// One surface (0-based `i`) alone, met from object space (`backward`
+    /// false: travelling +z, from the medium before it) or from image
+    /// space, the ray refracted through it or, with `reflect`, reflected
+    /// back into its medium. Rays start and end in the global frame; no
+    /// film. The event a non-sequential walk through the lens is made of
+    /// (the brute-force ghost reference, `ghost::reference`). `None` past
+    /// the last surface, or for a reflection at an ideal (paraxial) one.
+    pub fn at_surface(p: &Prescription, i: usize, backward: bool, reflect: bool) -> Option<Self> {
+        let s = p.surfaces();
+        if i >= s.len() || reflect && s[i].paraxial.is_some() {
+            return None;
+        }
+        let z = p.vertex_z();
+        let before = (p.index_before(i), i.checked_sub(1).and_then(|k| s[k].glass));
+        let after = (s[i].ior, s[i].glass);
+        let (from, to) = if backward { (after, before) } else { (before, after) };
+        let mut step = surface_step(&s[i], i, from, if reflect { from } else { to }, z[i], z[i]);
+        if reflect {
+            step.refract = true;
+            step.reflect = true;
+        }
+        Some(Tracer::with_glasses(vec![placed(step, p.placement(i))], p))
+    }
+
+    /// Which steps reflect: for a tracer from [`Self::ghost`], the two
+    /// reflections' step numbers (the path's order), else `None`.
+    pub fn reflections(&self) -> Option<[usize; 2]> {
+        let mut at = self.steps.iter().enumerate().filter(|(_, s)| s.reflect).map(|(k, _)| k);
+        Some([at.next()?, at.next()?])
+    }
+
+    /// Traces one ray as [`Self::trace`] and also returns the fraction of
+    /// its power that takes this path: the product over the surfaces it
+    /// meets of the reflectance (where the step reflects) or the
+    /// transmittance 1 - R (where it refracts), each for unpolarised light
+    /// at the ray's angle of incidence, through the surface's coating
+    /// ([`Prescription::coating`]) at the tracer's wavelength (its
+    /// prescription's [`Prescription::wavelength_nm`]). 1 for a surface
+    /// between equal indices. A ray that stopped keeps the product up to
+    /// the step before. The weight is 0 where the ray met a surface (or the
+    /// film) behind itself, which sequential tracing allows (it follows the
+    /// line) but light does not: a ghost path that turns back past the
+    /// film, say.
+    ///
+    /// The angle of incidence comes from the directions before and after
+    /// the step: `n2 d2 - n1 d1` lies along the normal (for a reflection
+    /// `d2 - d1`), so the weight needs no surface normal and holds on
+    /// aspheres and tilted surfaces alike.
+    pub fn trace_fresnel(&self, ray: Ray) -> (Outcome, f64) {
+        let mut weight = 1.0;
+        let mut before = ray.direction;
+        let nm = self.wavelength_nm;
+        let mut opl = 0.0;
+        let visit = |s: &Step, l: &Lane<f64>, kind: u64| {
+            if kind != PASSED {
+                return;
+            }
+            // a step the ray met behind itself (sequential tracing follows
+            // the line both ways): no light goes there
+            if l.opl < opl {
+                weight = 0.0;
+            }
+            opl = l.opl;
+            if s.surface >= self.coatings.len() {
+                return;
+            }
+            let after = DVec3::new(l.dx, l.dy, l.dz);
+            // light met the surface from its image side (travelling -z): the
+            // layers in reverse, and a reflection's other side before it
+            let backward = before.z < 0.0;
+            let n2 = match (s.reflect, backward) {
+                (false, _) => s.n_after,
+                (true, false) => self.media[s.surface + 1],
+                (true, true) => self.media[s.surface],
+            };
+            let n1 = s.n_before;
+            let along = if s.reflect { after - before } else { n2 * after - n1 * before };
+            let norm = along.length();
+            if (s.reflect || n1 != n2) && norm > 0.0 {
+                let cos1 = (before.dot(along) / norm).abs().min(1.0);
+                let r = self.coatings[s.surface].reflectance(n1, n2, cos1, nm, backward);
+                weight *= if s.reflect { r } else { 1.0 - r };
+            }
+            before = after;
+        };
+        let outcome = self.walk_fastest(ray, visit);
+        (outcome, weight)
+    }
+
     /// A tracer of `steps` through the glasses of `p`.
     fn with_glasses(steps: Vec<Step>, p: &Prescription) -> Self {
         let glasses = p.glasses_shared();
         let kernels = glasses.iter().map(|g| Kernel::of(&g.dispersion)).collect();
         let aspheres = one_ray_aspheres(&steps);
-        Tracer { steps, glasses, kernels, aspheres }
+        let coatings = p.coatings().into();
+        let media = std::iter::once(p.index_before(0)).chain(p.surfaces().iter().map(|s| s.ior)).collect();
+        Tracer { steps, glasses, kernels, aspheres, coatings, wavelength_nm: p.wavelength_nm(), media }
     }
 
     /// From image space (the film) back to object space. The ray starts in

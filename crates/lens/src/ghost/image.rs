@@ -1,0 +1,368 @@
+//! A ghost's image of a point source on a film grid, rasterised from a
+//! grid of rays.
+//!
+//! The source's light is cut into cells on an entrance plane in front of
+//! the lens (a square over the first surface's clear aperture); each cell's
+//! corner rays are traced through the path (ghost or primary) with their
+//! Fresnel weights ([`crate::Tracer::trace_fresnel`]), and the cell's power
+//! (times its corners' mean weight) is spread evenly over the two film
+//! triangles its corners make. A cell whose corners do not all reach the
+//! film (one is blocked by a clear aperture) is split in four, down to
+//! [`MAX_SPLITS`] times; what is still mixed then lands on the corners that
+//! reached. Smooth (no noise) and energy-conserving: every watt of a cell
+//! that reaches the film lands in some triangle (on the grid or, counted
+//! in `total`, off it).
+
+use crate::model::Prescription;
+use crate::trace::{Outcome, Ray, Tracer};
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// How many times a cell whose corners do not all reach the film is split
+/// in four (each level halves the width of the edge band it is unsure of).
+pub const MAX_SPLITS: u32 = 4;
+
+/// A grid of square pixels on the film plane: `nx` by `ny` pixels of
+/// `pixel_mm`, centred on `centre_mm` (film x, y, mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FilmGrid {
+    /// The grid's centre on the film, mm.
+    pub centre_mm: [f64; 2],
+    /// The pixels' width and height, mm.
+    pub pixel_mm: f64,
+    /// Pixels across (x).
+    pub nx: usize,
+    /// Pixels down (y).
+    pub ny: usize,
+}
+
+impl FilmGrid {
+    /// Pixel coordinates (continuous: pixel (i, j) spans [i, i + 1) x [j,
+    /// j + 1)) of the film point (x, y) mm.
+    pub fn to_pixels(&self, x: f64, y: f64) -> (f64, f64) {
+        (
+            (x - self.centre_mm[0]) / self.pixel_mm + self.nx as f64 / 2.0,
+            (y - self.centre_mm[1]) / self.pixel_mm + self.ny as f64 / 2.0,
+        )
+    }
+
+    /// The index (row-major, y down the rows) of the pixel holding film
+    /// point (x, y) mm, `None` off the grid.
+    pub fn index_of(&self, x: f64, y: f64) -> Option<usize> {
+        let (u, v) = self.to_pixels(x, y);
+        (u >= 0.0 && v >= 0.0 && u < self.nx as f64 && v < self.ny as f64).then(|| v as usize * self.nx + u as usize)
+    }
+}
+
+/// A point source, in the lens's global frame (mm, z from the first
+/// vertex).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Source {
+    /// At infinity, its light travelling along `direction` (unit, +z), of
+    /// irradiance 1 across the beam: the power through an area A of a plane
+    /// z = const is A |direction.z|.
+    Direction(DVec3),
+    /// At `position` (in front of the lens), of radiant intensity 1: the
+    /// power into a solid angle is that solid angle.
+    Point(DVec3),
+}
+
+/// A square of the entrance plane z = `z_mm` (in front of the lens),
+/// centred on (`centre[0]`, `centre[1]`), `half_mm` wide each side of it:
+/// where the source's rays start.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Entrance {
+    /// The plane's z, mm from the first vertex (negative: in front).
+    pub z_mm: f64,
+    /// The square's centre, mm.
+    pub centre: [f64; 2],
+    /// Half the square's side, mm.
+    pub half_mm: f64,
+}
+
+impl Entrance {
+    /// The square that holds every ray of `source` that can meet the first
+    /// surface inside its clear aperture (or within the largest clear
+    /// aperture of the lens where the first has none), on a plane 1 mm in
+    /// front of the first surface's rim or vertex, whichever is nearer the
+    /// source.
+    pub fn of(p: &Prescription, source: &Source) -> Entrance {
+        let s = p.surfaces();
+        let widest = s.iter().filter_map(|s| s.semi_diameter).fold(0.0, f64::max).max(1.0);
+        let sd = s[0].semi_diameter.unwrap_or(widest);
+        let rim = s[0].sag(sd).unwrap_or(0.0);
+        let z_mm = rim.min(0.0) - 1.0;
+        let depth = rim.abs() + 1.0;
+        let (centre, slope) = match *source {
+            Source::Direction(d) => {
+                let t = DVec3::new(d.x / d.z, d.y / d.z, 0.0);
+                ([t.x * z_mm, t.y * z_mm], t.length())
+            }
+            Source::Point(q) => {
+                let k = (z_mm - q.z) / -q.z;
+                let lateral = (q.x * q.x + q.y * q.y).sqrt();
+                ([q.x * (1.0 - k), q.y * (1.0 - k)], (lateral + sd) / -q.z)
+            }
+        };
+        Entrance { z_mm, centre, half_mm: sd * 1.02 + depth * slope }
+    }
+
+    /// The ray from the source through the entrance plane at (x, y) and
+    /// the power it stands for per unit area of the plane (mm^-2 of the
+    /// source's unit: irradiance or intensity).
+    fn ray_at(&self, source: &Source, x: f64, y: f64) -> Option<(Ray, f64)> {
+        let at = DVec3::new(x, y, self.z_mm);
+        match *source {
+            Source::Direction(d) => Ray::new(at, d).map(|r| (r, d.z.abs())),
+            Source::Point(q) => {
+                let v = at - q;
+                let r2 = v.length_squared();
+                Ray::new(at, v).map(|r| (r, v.z.abs() / (r2 * r2.sqrt())))
+            }
+        }
+    }
+}
+
+impl Entrance {
+    /// The smallest square of this entrance's plane, on its `cells` x
+    /// `cells` grid, that holds every grid point whose ray reaches the film
+    /// through `tracer`, widened by `margin` cells each side; `None` where
+    /// no grid point's ray does. Where a test's brute-force rays need not
+    /// go (they are unbiased on any region that holds the light's).
+    pub fn around_passing(&self, tracer: &Tracer, source: &Source, cells: usize, margin: usize) -> Option<Entrance> {
+        let n = cells.max(1);
+        let side = 2.0 * self.half_mm / n as f64;
+        let at = |i: usize| -self.half_mm + i as f64 * side;
+        let hits: Vec<(usize, usize)> = (0..=n)
+            .into_par_iter()
+            .flat_map_iter(|j| {
+                (0..=n).filter_map(move |i| {
+                    corner(tracer, self, source, self.centre[0] + at(i), self.centre[1] + at(j)).0.map(|_| (i, j))
+                })
+            })
+            .collect();
+        let lo = |f: fn(&(usize, usize)) -> usize| hits.iter().map(f).min();
+        let hi = |f: fn(&(usize, usize)) -> usize| hits.iter().map(f).max();
+        let (i0, i1, j0, j1) = (lo(|h| h.0)?, hi(|h| h.0)?, lo(|h| h.1)?, hi(|h| h.1)?);
+        let m = margin as f64;
+        let (x0, x1) = (at(i0) - m * side, at(i1) + m * side);
+        let (y0, y1) = (at(j0) - m * side, at(j1) + m * side);
+        let half = ((x1 - x0).max(y1 - y0) / 2.0).min(self.half_mm);
+        Some(Entrance {
+            z_mm: self.z_mm,
+            centre: [self.centre[0] + (x0 + x1) / 2.0, self.centre[1] + (y0 + y1) / 2.0],
+            half_mm: half,
+        })
+    }
+}
+
+/// A ghost's (or the primary's) image of a source.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GhostImage {
+    /// Power per pixel (the grid's, row-major), in the source's unit
+    /// times mm^2 (irradiance) or sr (intensity).
+    pub power: Vec<f64>,
+    /// All the power that reached the film, on the grid or off it.
+    pub total: f64,
+    /// The power-weighted mean of where it landed on the film, mm.
+    pub centroid_mm: [f64; 2],
+}
+
+impl GhostImage {
+    /// An empty image of `film`.
+    pub fn empty(film: &FilmGrid) -> Self {
+        GhostImage { power: vec![0.0; film.nx * film.ny], total: 0.0, centroid_mm: [0.0; 2] }
+    }
+
+    /// Adds `power` landing at the film point `at` (mm), for the
+    /// centroid and total (not the pixels).
+    pub(crate) fn count(&mut self, power: f64, at: [f64; 2]) {
+        let t = self.total + power;
+        if t > 0.0 {
+            for (c, a) in self.centroid_mm.iter_mut().zip(at) {
+                *c += (a - *c) * power / t;
+            }
+        }
+        self.total = t;
+    }
+
+    /// Adds `power` at the film point `at`, in its pixel and the sums.
+    pub fn deposit_point(&mut self, film: &FilmGrid, power: f64, at: [f64; 2]) {
+        if let Some(i) = film.index_of(at[0], at[1]) {
+            self.power[i] += power;
+        }
+        self.count(power, at);
+    }
+
+    /// Spreads `power` evenly over the film triangle `t` (mm): each pixel
+    /// gets the share of the triangle's area that lies in it (the triangle
+    /// clipped to the pixel's square); a triangle of no area lands in the
+    /// pixel of its centroid.
+    pub fn deposit_triangle(&mut self, film: &FilmGrid, power: f64, t: [[f64; 2]; 3]) {
+        let centroid = [(t[0][0] + t[1][0] + t[2][0]) / 3.0, (t[0][1] + t[1][1] + t[2][1]) / 3.0];
+        self.count(power, centroid);
+        let q: [(f64, f64); 3] = t.map(|p| film.to_pixels(p[0], p[1]));
+        let area = polygon_area(&q);
+        let (nx, ny) = (film.nx as f64, film.ny as f64);
+        let lo = |f: fn(&(f64, f64)) -> f64| q.iter().map(f).fold(f64::INFINITY, f64::min);
+        let hi = |f: fn(&(f64, f64)) -> f64| q.iter().map(f).fold(f64::NEG_INFINITY, f64::max);
+        let (u0, u1, v0, v1) = (lo(|p| p.0), hi(|p| p.0), lo(|p| p.1), hi(|p| p.1));
+        if !(u1 >= 0.0 && v1 >= 0.0 && u0 < nx && v0 < ny) {
+            return;
+        }
+        if area.is_nan() || area <= 1e-12 {
+            if let Some(i) = film.index_of(centroid[0], centroid[1]) {
+                self.power[i] += power;
+            }
+            return;
+        }
+        let (i0, i1) = (u0.max(0.0) as usize, (u1.min(nx - 1.0)) as usize);
+        let (j0, j1) = (v0.max(0.0) as usize, (v1.min(ny - 1.0)) as usize);
+        if i0 == i1 && j0 == j1 && u0 >= i0 as f64 && u1 <= (i0 + 1) as f64 && v0 >= j0 as f64 && v1 <= (j0 + 1) as f64
+        {
+            self.power[j0 * film.nx + i0] += power;
+            return;
+        }
+        for j in j0..=j1 {
+            for i in i0..=i1 {
+                let a = clipped_area(&q, i as f64, j as f64);
+                if a > 0.0 {
+                    self.power[j * film.nx + i] += power * a / area;
+                }
+            }
+        }
+    }
+}
+
+/// The area of a polygon (absolute, any winding).
+fn polygon_area(p: &[(f64, f64)]) -> f64 {
+    let n = p.len();
+    (0..n).map(|k| p[k].0 * p[(k + 1) % n].1 - p[(k + 1) % n].0 * p[k].1).sum::<f64>().abs() / 2.0
+}
+
+/// The area of the triangle `t` inside the unit square [i, i + 1) x [j,
+/// j + 1) (Sutherland-Hodgman clipping by its four edges).
+fn clipped_area(t: &[(f64, f64); 3], i: f64, j: f64) -> f64 {
+    let mut poly: Vec<(f64, f64)> = t.to_vec();
+    // each edge as (axis, bound, keep below)
+    for (axis, bound, below) in [(0, i, false), (0, i + 1.0, true), (1, j, false), (1, j + 1.0, true)] {
+        if poly.is_empty() {
+            return 0.0;
+        }
+        let coord = |p: &(f64, f64)| if axis == 0 { p.0 } else { p.1 };
+        let inside = |p: &(f64, f64)| if below { coord(p) <= bound } else { coord(p) >= bound };
+        let mut out = Vec::with_capacity(poly.len() + 2);
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            let (ia, ib) = (inside(&a), inside(&b));
+            if ia {
+                out.push(a);
+            }
+            if ia != ib {
+                let s = (bound - coord(&a)) / (coord(&b) - coord(&a));
+                out.push((a.0 + s * (b.0 - a.0), a.1 + s * (b.1 - a.1)));
+            }
+        }
+        poly = out;
+    }
+    if poly.len() < 3 {
+        0.0
+    } else {
+        polygon_area(&poly)
+    }
+}
+
+/// Where one corner ray landed: film (x, y) mm and its Fresnel weight;
+/// `None` where it did not reach the film.
+type Corner = Option<([f64; 2], f64)>;
+
+/// The corner ray through the entrance point (x, y).
+fn corner(tracer: &Tracer, entrance: &Entrance, source: &Source, x: f64, y: f64) -> (Corner, f64) {
+    let Some((ray, density)) = entrance.ray_at(source, x, y) else { return (None, 0.0) };
+    match tracer.trace_fresnel(ray) {
+        (Outcome::Reached { ray, .. }, w) if w > 0.0 => (Some(([ray.origin.x, ray.origin.y], w)), density),
+        _ => (None, density),
+    }
+}
+
+/// The image through `tracer` (a ghost's path, [`Tracer::ghost`], or the
+/// primary's, [`Tracer::forward_to_film`], ending on the film plane) of
+/// `source`, on `film`, from a `cells` x `cells` grid over `entrance`
+/// (refined at the edges, see the module). The corners of the grid are
+/// traced in parallel; the rest runs in a fixed order, so the image is
+/// the same bits for any thread count.
+pub fn rasterise(tracer: &Tracer, source: &Source, entrance: &Entrance, film: &FilmGrid, cells: usize) -> GhostImage {
+    let n = cells.max(1);
+    let side = 2.0 * entrance.half_mm / n as f64;
+    let at = |i: usize| -entrance.half_mm + i as f64 * side;
+    let corners: Vec<Vec<(Corner, f64)>> = (0..=n)
+        .into_par_iter()
+        .map(|j| {
+            (0..=n)
+                .map(|i| corner(tracer, entrance, source, entrance.centre[0] + at(i), entrance.centre[1] + at(j)))
+                .collect()
+        })
+        .collect();
+    let mut image = GhostImage::empty(film);
+    for j in 0..n {
+        for i in 0..n {
+            let c = [corners[j][i], corners[j][i + 1], corners[j + 1][i + 1], corners[j + 1][i]];
+            let x = entrance.centre[0] + at(i);
+            let y = entrance.centre[1] + at(j);
+            cell(tracer, entrance, source, film, &mut image, [x, y], side, c, 0);
+        }
+    }
+    image
+}
+
+/// One cell of the entrance grid, its lower corner at `xy` and its side
+/// `side` mm, its corners `c` (counter-clockwise from the lower left):
+/// deposited, or split where its corners disagree.
+#[allow(clippy::too_many_arguments)]
+fn cell(
+    tracer: &Tracer,
+    entrance: &Entrance,
+    source: &Source,
+    film: &FilmGrid,
+    image: &mut GhostImage,
+    xy: [f64; 2],
+    side: f64,
+    c: [(Corner, f64); 4],
+    depth: u32,
+) {
+    let reached = c.iter().filter(|k| k.0.is_some()).count();
+    if reached == 0 {
+        return;
+    }
+    let density = c.iter().map(|k| k.1).sum::<f64>() / 4.0;
+    let area = side * side;
+    if reached == 4 {
+        let p: Vec<([f64; 2], f64)> = c.iter().filter_map(|k| k.0).collect();
+        let w = p.iter().map(|k| k.1).sum::<f64>() / 4.0;
+        let power = area * density * w;
+        // the quad as two triangles, half the cell's power each (the
+        // cell's own halves are equal)
+        image.deposit_triangle(film, power / 2.0, [p[0].0, p[1].0, p[2].0]);
+        image.deposit_triangle(film, power / 2.0, [p[0].0, p[2].0, p[3].0]);
+        return;
+    }
+    if depth >= MAX_SPLITS {
+        let p: Vec<([f64; 2], f64)> = c.iter().filter_map(|k| k.0).collect();
+        for (at, w) in &p {
+            image.deposit_point(film, area * density * w / 4.0, *at);
+        }
+        return;
+    }
+    let h = side / 2.0;
+    let trace = |dx: f64, dy: f64| corner(tracer, entrance, source, xy[0] + dx, xy[1] + dy);
+    let (b, r, t, l, m) = (trace(h, 0.0), trace(side, h), trace(h, side), trace(0.0, h), trace(h, h));
+    let quads = [
+        ([xy[0], xy[1]], [c[0], b, m, l]),
+        ([xy[0] + h, xy[1]], [b, c[1], r, m]),
+        ([xy[0] + h, xy[1] + h], [m, r, c[2], t]),
+        ([xy[0], xy[1] + h], [l, m, t, c[3]]),
+    ];
+    for (at, q) in quads {
+        cell(tracer, entrance, source, film, image, at, h, q, depth + 1);
+    }
+}

@@ -80,6 +80,10 @@ pub struct Args {
     /// A real lens's prescription file (with --camera lens, or replacing the scene's).
     #[arg(long, value_name = "FILE")]
     prescription: Option<PathBuf>,
+    /// Lens flare through a real lens: off, ghosts, or ghosts+glare
+    /// (overrides the scene's film.flare).
+    #[arg(long, value_name = "MODE")]
+    flare: Option<::render::scene::format::FlareSpec>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -169,6 +173,8 @@ pub fn run(a: Args) -> CmdResult {
         aperture_shape: a.aperture_shape.clone(),
         prescription: a.prescription.clone(),
         strict_glass_range: a.glass_range.strict_glass_range,
+        flare: a.flare,
+        coating: None,
     };
     let mut scene = Scene::load_with(&a.scene, &overrides)?;
     // every output checked before any work: formats, folders, and none of

@@ -85,6 +85,8 @@ pub fn render<'py>(
         aperture_shape,
         prescription,
         strict_glass_range: false,
+        flare: None,
+        coating: None,
     };
     let s = ::render::Scene::load_with(&scene, &overrides).map_err(|e| RenderError::new_err(e.to_string()))?;
     for w in &s.glass_warnings {

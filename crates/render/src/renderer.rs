@@ -131,9 +131,12 @@ pub fn render_with(
             .collect();
         add_band(&mut film, band, rows, &plan);
     }
-    if let (Some(lamps), Camera::Real(cam)) = (&plan.lamps, &scene.camera) {
+    if let Camera::Real(cam) = &scene.camera {
         let fp = FilmPlan { width: w, height: h, filter: scene.film.filter, colour: &scene.colour, seed: opt.seed };
-        lamps.render(scene, cam, &fp, &mut film);
+        if let Some(lamps) = &plan.lamps {
+            lamps.render(scene, cam, &fp, &mut film);
+        }
+        crate::camera::flare::render(scene, cam, &fp, &mut film);
     }
     let stats = Stats { camera_rays: w * h * plan.spp, camera_rays_passed: passed.load(Ordering::Relaxed) };
     (Image { width: w, height: h, pixels: film }, stats)

@@ -50,6 +50,13 @@ pub struct Settings {
     /// A real lens's prescription, relative to the study file.
     #[serde(default)]
     pub prescription: Option<String>,
+    /// Lens flare: `"off"`, `"ghosts"` or `"ghosts+glare"`.
+    #[serde(default)]
+    pub flare: Option<String>,
+    /// Every surface's coating of a real lens: `"none"`, `"MgF2"` or thin
+    /// films (`camera.coating`).
+    #[serde(default)]
+    pub coating: Option<lens::model::CoatingSpec>,
 }
 
 /// A row or column: its label and settings.
@@ -122,6 +129,13 @@ impl Settings {
         }
         if let Some(p) = &self.prescription {
             o.prescription = Some(dir.join(p));
+        }
+        if let Some(f) = &self.flare {
+            o.flare = Some(f.parse().map_err(|e| format!("{what}.flare: {e}"))?);
+        }
+        if let Some(c) = &self.coating {
+            c.coating().map_err(|e| format!("{what}.coating: {e}"))?;
+            o.coating = Some(c.clone());
         }
         Ok(())
     }

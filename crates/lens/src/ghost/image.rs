@@ -8,8 +8,8 @@
 //! (times its corners' mean weight) is spread evenly over the two film
 //! triangles its corners make. A cell whose corners do not all reach the
 //! film (one is blocked by a clear aperture) is split in four, down to
-//! [`MAX_SPLITS`] times; what is still mixed then lands on the corners that
-//! reached. Smooth (no noise) and energy-conserving: every watt of a cell
+//! [`MAX_SPLITS`] times; what is still mixed then lands on the triangle or
+//! segment of the corners that reached. Smooth (no noise) and energy-conserving: every watt of a cell
 //! that reaches the film lands in some triangle (on the grid or, counted
 //! in `total`, off it).
 
@@ -44,6 +44,15 @@ impl FilmGrid {
             (x - self.centre_mm[0]) / self.pixel_mm + self.nx as f64 / 2.0,
             (y - self.centre_mm[1]) / self.pixel_mm + self.ny as f64 / 2.0,
         )
+    }
+
+    /// The film point (mm) at the centre of pixel `index` (row-major).
+    pub fn centre_of(&self, index: usize) -> [f64; 2] {
+        let (i, j) = (index % self.nx, index / self.nx);
+        [
+            self.centre_mm[0] + (i as f64 + 0.5 - self.nx as f64 / 2.0) * self.pixel_mm,
+            self.centre_mm[1] + (j as f64 + 0.5 - self.ny as f64 / 2.0) * self.pixel_mm,
+        ]
     }
 
     /// The index (row-major, y down the rows) of the pixel holding film
@@ -241,35 +250,47 @@ fn polygon_area(p: &[(f64, f64)]) -> f64 {
 }
 
 /// The area of the triangle `t` inside the unit square [i, i + 1) x [j,
-/// j + 1) (Sutherland-Hodgman clipping by its four edges).
+/// j + 1) (Sutherland-Hodgman clipping by its four edges, on the stack).
 fn clipped_area(t: &[(f64, f64); 3], i: f64, j: f64) -> f64 {
-    let mut poly: Vec<(f64, f64)> = t.to_vec();
+    let inside_corner = |x: f64, y: f64| {
+        let e = |a: (f64, f64), b: (f64, f64)| (b.0 - a.0) * (y - a.1) - (b.1 - a.1) * (x - a.0);
+        let (e0, e1, e2) = (e(t[0], t[1]), e(t[1], t[2]), e(t[2], t[0]));
+        (e0 >= 0.0 && e1 >= 0.0 && e2 >= 0.0) || (e0 <= 0.0 && e1 <= 0.0 && e2 <= 0.0)
+    };
+    // the whole pixel inside: its four corners are
+    if inside_corner(i, j) && inside_corner(i + 1.0, j) && inside_corner(i, j + 1.0) && inside_corner(i + 1.0, j + 1.0)
+    {
+        return 1.0;
+    }
+    let mut poly = [(0.0, 0.0); 8];
+    let mut n = 3;
+    poly[..3].copy_from_slice(t);
+    let mut next = [(0.0, 0.0); 8];
     // each edge as (axis, bound, keep below)
     for (axis, bound, below) in [(0, i, false), (0, i + 1.0, true), (1, j, false), (1, j + 1.0, true)] {
-        if poly.is_empty() {
-            return 0.0;
-        }
-        let coord = |p: &(f64, f64)| if axis == 0 { p.0 } else { p.1 };
-        let inside = |p: &(f64, f64)| if below { coord(p) <= bound } else { coord(p) >= bound };
-        let mut out = Vec::with_capacity(poly.len() + 2);
-        for k in 0..poly.len() {
-            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
-            let (ia, ib) = (inside(&a), inside(&b));
+        let coord = |p: (f64, f64)| if axis == 0 { p.0 } else { p.1 };
+        let inside = |p: (f64, f64)| if below { coord(p) <= bound } else { coord(p) >= bound };
+        let mut m = 0;
+        for k in 0..n {
+            let (a, b) = (poly[k], poly[(k + 1) % n]);
+            let (ia, ib) = (inside(a), inside(b));
             if ia {
-                out.push(a);
+                next[m] = a;
+                m += 1;
             }
             if ia != ib {
-                let s = (bound - coord(&a)) / (coord(&b) - coord(&a));
-                out.push((a.0 + s * (b.0 - a.0), a.1 + s * (b.1 - a.1)));
+                let s = (bound - coord(a)) / (coord(b) - coord(a));
+                next[m] = (a.0 + s * (b.0 - a.0), a.1 + s * (b.1 - a.1));
+                m += 1;
             }
         }
-        poly = out;
+        if m < 3 {
+            return 0.0;
+        }
+        poly[..m].copy_from_slice(&next[..m]);
+        n = m;
     }
-    if poly.len() < 3 {
-        0.0
-    } else {
-        polygon_area(&poly)
-    }
+    polygon_area(&poly[..n])
 }
 
 /// Where one corner ray landed: film (x, y) mm and its Fresnel weight;
@@ -292,6 +313,20 @@ fn corner(tracer: &Tracer, entrance: &Entrance, source: &Source, x: f64, y: f64)
 /// traced in parallel; the rest runs in a fixed order, so the image is
 /// the same bits for any thread count.
 pub fn rasterise(tracer: &Tracer, source: &Source, entrance: &Entrance, film: &FilmGrid, cells: usize) -> GhostImage {
+    rasterise_with(tracer, source, entrance, film, cells, MAX_SPLITS)
+}
+
+/// [`rasterise`] with cells whose corners disagree split at most `splits`
+/// times (0: such cells land on their corners that reached): fewer rays
+/// for a coarser edge, as a renderer may want.
+pub fn rasterise_with(
+    tracer: &Tracer,
+    source: &Source,
+    entrance: &Entrance,
+    film: &FilmGrid,
+    cells: usize,
+    splits: u32,
+) -> GhostImage {
     let n = cells.max(1);
     let side = 2.0 * entrance.half_mm / n as f64;
     let at = |i: usize| -entrance.half_mm + i as f64 * side;
@@ -309,7 +344,7 @@ pub fn rasterise(tracer: &Tracer, source: &Source, entrance: &Entrance, film: &F
             let c = [corners[j][i], corners[j][i + 1], corners[j + 1][i + 1], corners[j + 1][i]];
             let x = entrance.centre[0] + at(i);
             let y = entrance.centre[1] + at(j);
-            cell(tracer, entrance, source, film, &mut image, [x, y], side, c, 0);
+            cell(tracer, entrance, source, film, &mut image, [x, y], side, c, MAX_SPLITS - splits.min(MAX_SPLITS));
         }
     }
     image
@@ -347,9 +382,25 @@ fn cell(
         return;
     }
     if depth >= MAX_SPLITS {
+        // what is still mixed lands on the corners that reached, spread
+        // over the triangle or the segment they make (a point alone)
         let p: Vec<([f64; 2], f64)> = c.iter().filter_map(|k| k.0).collect();
-        for (at, w) in &p {
-            image.deposit_point(film, area * density * w / 4.0, *at);
+        let power = area * density * p.iter().map(|k| k.1).sum::<f64>() / 4.0;
+        match p.as_slice() {
+            [a, b, c] => image.deposit_triangle(film, power, [a.0, b.0, c.0]),
+            [a, b] => {
+                const ALONG: usize = 8;
+                for k in 0..ALONG {
+                    let f = (k as f64 + 0.5) / ALONG as f64;
+                    let at = [a.0[0] + f * (b.0[0] - a.0[0]), a.0[1] + f * (b.0[1] - a.0[1])];
+                    image.deposit_point(film, power / ALONG as f64, at);
+                }
+            }
+            _ => {
+                for (at, _) in &p {
+                    image.deposit_point(film, power / p.len() as f64, *at);
+                }
+            }
         }
         return;
     }

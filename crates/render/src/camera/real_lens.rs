@@ -561,7 +561,7 @@ impl RealLensCamera {
 
     /// A scene point (m) in the lens frame (mm: x right, y up, z from the
     /// first vertex toward the film).
-    pub(crate) fn point_to_lens(&self, p: DVec3) -> DVec3 {
+    pub fn point_to_lens(&self, p: DVec3) -> DVec3 {
         self.to_lens(&Ray { origin: p, dir: self.frame.forward }).0
     }
 

@@ -52,7 +52,7 @@ fn given_focus(c: &CameraSpec) -> Result<f64, (String, FieldError)> {
 /// its stop resized for `f_number` or `stop_semi_diameter`, not yet
 /// focused.
 pub(super) fn load_lens(c: &CameraSpec, dir: &Path, given: &Given) -> Result<lens::Prescription, (String, FieldError)> {
-    let CameraSpec::Lens { prescription, f_number, stop_semi_diameter, .. } = c else {
+    let CameraSpec::Lens { prescription, f_number, stop_semi_diameter, coating, .. } = c else {
         return Err(("camera.type".into(), "not a real lens camera".into()));
     };
     let mut lens = match given.lens {
@@ -66,6 +66,10 @@ pub(super) fn load_lens(c: &CameraSpec, dir: &Path, given: &Given) -> Result<len
     }
     if let Some(sd) = stop_semi_diameter {
         lens = lens.with_stop_semi_diameter(*sd).map_err(|e| ("camera.stop_semi_diameter".to_string(), e.into()))?;
+    }
+    if let Some(c) = coating {
+        let c = c.coating().map_err(|e| ("camera.coating".to_string(), e.into()))?;
+        lens = lens.with_coatings(Some(c));
     }
     Ok(lens)
 }

@@ -206,6 +206,12 @@ pub enum CameraSpec {
         /// Aperture shape (applied at the stop).
         #[serde(default)]
         aperture_shape: ApertureSpec,
+        /// Every surface's coating, overriding the prescription's (its
+        /// own, or MgF2 on air-glass surfaces by default): `"none"`,
+        /// `"MgF2"`, or thin films `[{"index", "thickness_nm"}, ...]`.
+        /// Sets how bright the ghosts of `film.flare` are.
+        #[serde(default)]
+        coating: Option<lens::model::CoatingSpec>,
     },
 }
 
@@ -238,6 +244,41 @@ pub struct FilmSpec {
     /// real lens with glasses.
     #[serde(default)]
     pub companions: CompanionsSpec,
+    /// Lens flare through a real lens: `"off"` (default), `"ghosts"`
+    /// (every two-reflection ghost of the bright lamps and sky), or
+    /// `"ghosts+glare"` (and the veiling glare of the higher-order
+    /// reflections).
+    #[serde(default)]
+    pub flare: FlareSpec,
+}
+
+/// Which lens flare a real-lens render adds (docs/rendering.md).
+#[derive(Debug, Clone, Copy, Deserialize, Default, PartialEq, Eq)]
+#[serde(deny_unknown_fields)]
+pub enum FlareSpec {
+    /// None: the lens passes all its light to the primary image.
+    #[default]
+    #[serde(rename = "off")]
+    Off,
+    /// The ghosts of two reflections, of the scene's bright sources; the
+    /// primary image loses what the surfaces reflect.
+    #[serde(rename = "ghosts")]
+    Ghosts,
+    /// The ghosts and a veil of the light reflected four or more times.
+    #[serde(rename = "ghosts+glare")]
+    GhostsAndGlare,
+}
+
+impl std::str::FromStr for FlareSpec {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "off" => Ok(FlareSpec::Off),
+            "ghosts" => Ok(FlareSpec::Ghosts),
+            "ghosts+glare" => Ok(FlareSpec::GhostsAndGlare),
+            _ => Err(format!("{s}: write off, ghosts or ghosts+glare")),
+        }
+    }
 }
 
 /// Which spectral samples trace their companion wavelengths through a real

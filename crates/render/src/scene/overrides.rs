@@ -51,6 +51,10 @@ pub struct Overrides {
     /// Refuse wavelengths outside a glass's data instead of extrapolating
     /// (a spectral render's range narrowed to every glass's data).
     pub strict_glass_range: bool,
+    /// Lens flare (`film.flare`).
+    pub flare: Option<super::format::FlareSpec>,
+    /// Every surface's coating of a real lens (`camera.coating`).
+    pub coating: Option<lens::model::CoatingSpec>,
 }
 
 /// A field name and what is wrong with it.
@@ -90,6 +94,9 @@ impl Overrides {
             (None, Some(h)) => (file.film.width, file.film.height) = (if h == 0 { 0 } else { scaled(h, w0 / h0) }, h),
             (None, None) => {}
         }
+        if let Some(f) = self.flare {
+            file.film.flare = f;
+        }
         if let Some(s) = self.spp {
             file.film.spp = s;
         }
@@ -109,14 +116,16 @@ impl Overrides {
                     ("focus_shift", self.focus_shift.is_some()),
                     ("aperture_shape", self.aperture_shape.is_some()),
                     ("prescription", self.prescription.is_some()),
+                    ("coating", self.coating.is_some()),
                 ];
                 if let Some((f, _)) = flags.iter().find(|(_, given)| *given) {
                     return Err((field(f), "a pinhole has no lens: choose --camera thin-lens or lens".into()));
                 }
             }
             CameraSpec::ThinLens { aperture, f_number, focal_length_mm, aperture_shape, focus_shift, .. } => {
-                if self.prescription.is_some() {
-                    return Err((field("prescription"), "a thin lens has no prescription: add --camera lens".into()));
+                if self.prescription.is_some() || self.coating.is_some() {
+                    let f = if self.prescription.is_some() { "prescription" } else { "coating" };
+                    return Err((field(f), "a thin lens has no prescription: add --camera lens".into()));
                 }
                 if let Some(a) = self.aperture {
                     *aperture = Some(a);
@@ -136,7 +145,10 @@ impl Overrides {
                     *aperture_shape = s;
                 }
             }
-            CameraSpec::Lens { prescription, f_number, stop_semi_diameter, aperture_shape, .. } => {
+            CameraSpec::Lens { prescription, f_number, stop_semi_diameter, aperture_shape, coating, .. } => {
+                if let Some(c) = &self.coating {
+                    *coating = Some(c.clone());
+                }
                 if self.aperture.is_some() || self.focal_length_mm.is_some() || self.focus_shift.is_some() {
                     let f = if self.aperture.is_some() {
                         "aperture"
@@ -261,6 +273,7 @@ impl Overrides {
                     focus_on: focus_on.clone(),
                     sensor_mm: [h * aspect, h],
                     aperture_shape: shape.clone(),
+                    coating: None,
                 }
             }
         })

@@ -1,0 +1,468 @@
+//! Lens flare through a real lens (`film.flare`): the ghosts of the
+//! scene's bright sources, the light the primary image loses to them, and
+//! (`ghosts+glare`) the veil of the light reflected four times or more.
+//!
+//! - Sources: the emissive spheres (each taken as a point at its centre of
+//!   the intensity its disc sends toward the lens; the [`MAX_SOURCES`]
+//!   most powerful that the lens's front vertex sees unoccluded) and the
+//!   bright patches of an environment (each a direction, the patch's
+//!   power-weighted centre, of the irradiance its texels give).
+//! - Ghosts: every two-reflection path of the lens (`lens::ghost`), each
+//!   source's image through it rasterised from a ray grid with Fresnel
+//!   weights at each ray's angle and wavelength (`lens::ghost::rasterise`,
+//!   checked against the brute-force reference in the lens crate), at
+//!   [`WAVELENGTHS`] wavelengths for colour (dispersion and coatings make
+//!   ghosts coloured). A first look at the primary wavelength on a coarse
+//!   grid drops the ghosts too dim to see (peak below [`VISIBLE`] of the
+//!   image's mean) and sizes each kept ghost's grid: a large ghost is
+//!   rasterised on a grid of coarser pixels, then added bilinearly.
+//! - The primary image: multiplied by the lens's transmittance (the
+//!   product of 1 - R over its surfaces), per film radius and colour, the
+//!   mean over the pupil (docs/rendering.md gives its error).
+//! - Glare: the light of the paths with four reflections or more, from
+//!   the incoherent multiple reflection of the surfaces at normal
+//!   incidence, spread evenly over the frame.
+//!
+//! A film pixel measures `1 / (norm A_pix)` times the power reaching it
+//! (`lamp_light`), so a ghost adds its irradiance over `norm`.
+
+use super::lamp_light::FilmPlan;
+use super::real_lens::RealLensCamera;
+use super::sky_patches;
+use crate::envmap::direction;
+use crate::geometry::{Shape, EPS};
+use crate::material::Material;
+use crate::scene::format::FlareSpec;
+use crate::scene::{Background, ColourMode, Scene};
+use crate::spectrum::{cie, SampledWavelengths};
+use crate::transport::Spectral;
+use glam::DVec3;
+use lens::ghost::image::Entrance;
+use lens::ghost::{ghost_pairs, rasterise_with, FilmGrid, Source};
+use lens::{Outcome, Prescription, Ray, Tracer};
+use rayon::prelude::*;
+use std::f64::consts::{PI, TAU};
+
+/// Sources whose ghosts are drawn, at most (the most powerful).
+pub const MAX_SOURCES: usize = 16;
+/// Wavelengths a ghost is rasterised at (midpoints of equal bands over
+/// 400-700 nm) in a colour render: enough for the colour of coatings and
+/// dispersion, which vary slowly with wavelength.
+pub const WAVELENGTHS: usize = 4;
+/// A ghost is drawn where its peak is at least this fraction of the
+/// image's mean luminance.
+pub const VISIBLE: f64 = 1e-3;
+/// Cells across the entrance grid of the first look and of the drawing.
+const LOOK_CELLS: usize = 16;
+const DRAW_CELLS: usize = 24;
+/// Times a drawn cell whose corners disagree (at a clear aperture's edge)
+/// is split.
+const DRAW_SPLITS: u32 = 2;
+/// The most grid pixels across a ghost's drawing: a larger ghost goes to
+/// a grid of pixels 2, 4, 8 or 16 film pixels wide.
+const DRAW_PIXELS: f64 = 96.0;
+
+/// A ghost of a source worth drawing: the source, the ghost's surfaces,
+/// and its extent on the film (lower and upper corners, mm).
+type Looked = (usize, [usize; 2], [f64; 2], [f64; 2]);
+
+/// A ghost to draw: [`Looked`] with the width of its grid's pixels, in
+/// film pixels (1, 2, 4, 8 or 16), before its extent.
+type Drawn = (usize, [usize; 2], usize, [f64; 2], [f64; 2]);
+
+/// One bright source, in the lens frame, with its light per wavelength.
+struct Bright {
+    source: Source,
+    /// Radiant intensity (a point, per unit radiance: sr mm^2) or
+    /// irradiance (a direction, per unit radiance: sr) scale.
+    scale: f64,
+    /// Its radiance at each of the flare's wavelengths.
+    radiance: Vec<f64>,
+}
+
+/// Adds the lens flare of `scene` through `cam` to `film` (linear sRGB,
+/// row-major): the primary image dimmed by the lens's transmittance, then
+/// the ghosts (and glare) added. Nothing when `film.flare` is off.
+pub(crate) fn render(scene: &Scene, cam: &RealLensCamera, plan: &FilmPlan, film: &mut [DVec3]) {
+    if scene.film.flare == FlareSpec::Off {
+        return;
+    }
+    let (w, h) = (plan.width, plan.height);
+    let mean = film.iter().map(|v| luminance(*v)).sum::<f64>() / film.len().max(1) as f64;
+    let (nms, colours) = wavelengths(plan.colour);
+    let p = cam.prescription();
+    let lenses: Vec<Prescription> = nms.iter().map(|&nm| p.at_wavelength(nm).unwrap_or_else(|_| p.clone())).collect();
+    dim_by_transmittance(cam, &lenses, &colours, w, h, film);
+    let layer = ghost_layer(scene, cam, w, h, VISIBLE * mean.max(1e-12));
+    for (px, add) in film.iter_mut().zip(layer) {
+        *px += add;
+    }
+}
+
+/// The ghosts (and, for `ghosts+glare`, the glare) of `scene` through
+/// `cam` on a `w` x `h` film (linear sRGB, row-major, the scene's colour
+/// mode): what [`render`] adds to the image. Ghosts whose peak is below
+/// `floor` (film units) at the primary wavelength are left out.
+pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floor: f64) -> Vec<DVec3> {
+    let mut film = vec![DVec3::ZERO; w * h];
+    let (nms, colours) = wavelengths(&scene.colour);
+    let p = cam.prescription();
+    let lenses: Vec<Prescription> = nms.iter().map(|&nm| p.at_wavelength(nm).unwrap_or_else(|_| p.clone())).collect();
+    let sources = bright_sources(scene, cam, &nms);
+    if sources.is_empty() {
+        return film;
+    }
+    let [sw, sh] = cam.sensor_mm();
+    let pix = sw / w as f64;
+    let norm = cam.centre_weight();
+    let primary = nms.len() / 2;
+    let pairs = ghost_pairs(&lenses[primary]);
+    // the first look: each (source, ghost) at the primary wavelength on a
+    // coarse grid, its peak and extent
+    let look_grid = FilmGrid {
+        centre_mm: [0.0; 2],
+        pixel_mm: 8.0 * pix,
+        nx: w.div_ceil(8),
+        ny: (sh / (8.0 * pix)).ceil() as usize,
+    };
+    let jobs: Vec<(usize, [usize; 2])> = (0..sources.len()).flat_map(|s| pairs.iter().map(move |&g| (s, g))).collect();
+    let looked: Vec<Option<Looked>> = jobs
+        .par_iter()
+        .map(|&(si, [i, j])| {
+            let b = &sources[si];
+            let t = Tracer::ghost(&lenses[primary], i, j, lenses[primary].film_distance())?;
+            let e = Entrance::of(&lenses[primary], &b.source);
+            let img = rasterise_with(&t, &b.source, &e, &look_grid, LOOK_CELLS, 0);
+            let area = look_grid.pixel_mm * look_grid.pixel_mm;
+            let peak = img.power.iter().fold(0.0f64, |a, &v| a.max(v)) / area * b.scale * b.radiance[primary] / norm;
+            (peak > 0.0 && peak >= floor).then(|| {
+                // the ghost's extent on the film, mm, from its occupied cells
+                let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+                for (k, v) in img.power.iter().enumerate() {
+                    if *v > 0.0 {
+                        let c = look_grid.centre_of(k);
+                        let half = look_grid.pixel_mm / 2.0;
+                        lo = [lo[0].min(c[0] - half), lo[1].min(c[1] - half)];
+                        hi = [hi[0].max(c[0] + half), hi[1].max(c[1] + half)];
+                    }
+                }
+                (si, [i, j], lo, hi)
+            })
+        })
+        .collect();
+    // each kept ghost's grid: pixels 1, 2, 4, 8 or 16 film pixels wide, so
+    // that it is at most DRAW_PIXELS across
+    let kept: Vec<Drawn> = looked
+        .into_iter()
+        .flatten()
+        .map(|(si, g, lo, hi)| {
+            let across = (hi[0] - lo[0]).max(hi[1] - lo[1]) / pix;
+            let mut level = 1usize;
+            while across / level as f64 > DRAW_PIXELS && level < 16 {
+                level *= 2;
+            }
+            (si, g, level, lo, hi)
+        })
+        .collect();
+    // each level's grid of irradiance (per unit of norm), linear sRGB;
+    // a ghost drawn on the part of its level's grid that holds it
+    let mut levels: Vec<(usize, FilmGrid, Vec<DVec3>)> = Vec::new();
+    for level in [1usize, 2, 4, 8, 16] {
+        if !kept.iter().any(|k| k.2 == level) {
+            continue;
+        }
+        let lp = level as f64 * pix;
+        let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: lp, nx: w.div_ceil(level), ny: (sh / lp).ceil() as usize };
+        let mine: Vec<_> = kept.iter().filter(|k| k.2 == level).collect();
+        let mut sum = vec![DVec3::ZERO; grid.nx * grid.ny];
+        for (k, lens_k) in lenses.iter().enumerate() {
+            let images: Vec<(usize, usize, usize, Vec<f64>)> = mine
+                .par_iter()
+                .filter_map(|&&(si, [i, j], _, lo, hi)| {
+                    let b = &sources[si];
+                    let t = Tracer::ghost(lens_k, i, j, lens_k.film_distance())?;
+                    let e = Entrance::of(lens_k, &b.source);
+                    // the part of the level's grid over the ghost (a margin
+                    // of a look pixel for dispersion and the coarse look)
+                    let m = 8.0 * pix;
+                    let (a0, b0) = grid.to_pixels(lo[0] - m, lo[1] - m);
+                    let (a1, b1) = grid.to_pixels(hi[0] + m, hi[1] + m);
+                    let i0 = (a0.floor().max(0.0) as usize).min(grid.nx);
+                    let j0 = (b0.floor().max(0.0) as usize).min(grid.ny);
+                    let i1 = (a1.ceil().max(0.0) as usize).min(grid.nx);
+                    let j1 = (b1.ceil().max(0.0) as usize).min(grid.ny);
+                    if i1 <= i0 || j1 <= j0 {
+                        return None;
+                    }
+                    let (nx, ny) = (i1 - i0, j1 - j0);
+                    let x0 = (i0 as f64 - grid.nx as f64 / 2.0) * lp;
+                    let y0 = (j0 as f64 - grid.ny as f64 / 2.0) * lp;
+                    let local = FilmGrid {
+                        centre_mm: [x0 + nx as f64 * lp / 2.0, y0 + ny as f64 * lp / 2.0],
+                        pixel_mm: lp,
+                        nx,
+                        ny,
+                    };
+                    let img = rasterise_with(&t, &b.source, &e, &local, DRAW_CELLS, DRAW_SPLITS);
+                    let s = b.scale * b.radiance[k] / (norm * lp * lp);
+                    Some((i0, j0, nx, img.power.into_iter().map(|v| v * s).collect()))
+                })
+                .collect();
+            for (i0, j0, nx, img) in images {
+                for (q, v) in img.into_iter().enumerate() {
+                    sum[(j0 + q / nx) * grid.nx + i0 + q % nx] += colours[k] * v;
+                }
+            }
+        }
+        levels.push((level, grid, sum));
+    }
+    let glare = if scene.film.flare == FlareSpec::GhostsAndGlare {
+        glare_veil(&lenses, &colours, &sources, norm, sw * sh)
+    } else {
+        DVec3::ZERO
+    };
+    for (row, line) in film.chunks_mut(w).enumerate().take(h) {
+        for (col, px) in line.iter_mut().enumerate() {
+            // the pixel's film point: u = 0.5 - x / sw, v = 0.5 + y / sh
+            let fx = (0.5 - (col as f64 + 0.5) / w as f64) * sw;
+            let fy = ((row as f64 + 0.5) / h as f64 - 0.5) * sh;
+            let mut add = glare;
+            for (_, grid, sum) in &levels {
+                add += bilinear(grid, sum, fx, fy);
+            }
+            *px += add;
+        }
+    }
+    film
+}
+
+/// The flare's wavelengths and each one's colour weight (linear sRGB per
+/// unit radiance): [`WAVELENGTHS`] bands over 400-700 nm, normalised so a
+/// flat spectrum of 1 has luminance 1; or the one wavelength of a
+/// monochromatic render (grey, weight 1).
+fn wavelengths(colour: &ColourMode) -> (Vec<f64>, Vec<DVec3>) {
+    if let ColourMode::Monochromatic(nm) = colour {
+        return (vec![*nm], vec![DVec3::ONE]);
+    }
+    let band = 300.0 / WAVELENGTHS as f64;
+    let nms: Vec<f64> = (0..WAVELENGTHS).map(|k| 400.0 + (k as f64 + 0.5) * band).collect();
+    let y: f64 = nms.iter().map(|&nm| cie::cmf(nm).y).sum();
+    let colours = nms.iter().map(|&nm| cie::xyz_to_rgb(cie::cmf(nm) / y)).collect();
+    (nms, colours)
+}
+
+/// Relative luminance of linear sRGB.
+fn luminance(v: DVec3) -> f64 {
+    0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z
+}
+
+/// The scene's bright sources seen by the lens (see the module), at most
+/// [`MAX_SOURCES`], the most powerful first.
+fn bright_sources(scene: &Scene, cam: &RealLensCamera, nms: &[f64]) -> Vec<Bright> {
+    let front = DVec3::new(0.0, 0.0, -1.0);
+    let seen = |d: DVec3, prim: Option<usize>| {
+        let ray = cam.ray_to_scene(front, d);
+        let eps = EPS * (1.0 + ray.origin.abs().max_element());
+        match scene.intersect(&ray, eps, f64::INFINITY) {
+            Some((hit, _)) => prim == Some(hit),
+            None => prim.is_none(),
+        }
+    };
+    let at = |nm: f64| Spectral::new(SampledWavelengths::single(nm));
+    let mut out: Vec<(f64, Bright)> = Vec::new();
+    for (i, shape) in scene.shapes.iter().enumerate() {
+        let m = &scene.materials[scene.material_of[i]];
+        let (Material::Emissive { .. }, Shape::Sphere { center, radius }) = (m, shape) else { continue };
+        let c = cam.point_to_lens(*center);
+        let rho = radius * 1e3;
+        let r = (c - front).length();
+        if c.z + rho >= front.z || r <= rho || !seen((c - front).normalize(), Some(i)) {
+            continue;
+        }
+        // the disc's solid angle from the front, times r^2: intensity per
+        // unit radiance, sr mm^2
+        let solid = TAU * (1.0 - (1.0 - (rho / r).powi(2)).max(0.0).sqrt());
+        let radiance: Vec<f64> = nms.iter().map(|&nm| m.emitted(&at(nm), 1.0).0[0]).collect();
+        let scale = solid * r * r;
+        let power = scale * radiance.iter().sum::<f64>() / (r * r);
+        out.push((power, Bright { source: Source::Point(c), scale, radiance }));
+    }
+    if let Background::Environment(img) = &scene.background {
+        for patch in sky_patches::find(img) {
+            let (w, h) = (img.width, img.height);
+            let mut radiance = vec![0.0; nms.len()];
+            let mut centre = DVec3::ZERO;
+            for &k in patch.texels() {
+                let (u, v) = (((k % w) as f64 + 0.5) / w as f64, ((k / w) as f64 + 0.5) / h as f64);
+                let d = direction(u, v);
+                let solid = (TAU / w as f64) * (PI / h as f64) * (v * PI).sin();
+                for (r, &nm) in radiance.iter_mut().zip(nms) {
+                    *r += scene.background.radiance(&at(nm), d).0[0] * solid;
+                }
+                centre += d * solid * scene.background.radiance(&at(550.0), d).0[0];
+            }
+            let toward = cam.dir_to_lens(centre.normalize_or(DVec3::Z));
+            if toward.z >= 0.0 || !seen(toward, None) {
+                continue;
+            }
+            let power = radiance.iter().sum::<f64>();
+            // irradiance per unit radiance: the patch's solid angle, carried
+            // in `radiance` already (scale 1)
+            out.push((power, Bright { source: Source::Direction(-toward), scale: 1.0, radiance }));
+        }
+    }
+    out.sort_by(|a, b| b.0.total_cmp(&a.0));
+    out.truncate(MAX_SOURCES);
+    out.into_iter().map(|x| x.1).collect()
+}
+
+/// The film's value at film point (x, y) mm from a level's grid: bilinear
+/// between the grid's pixel centres (0 outside).
+fn bilinear(grid: &FilmGrid, v: &[DVec3], x: f64, y: f64) -> DVec3 {
+    let (u, w) = grid.to_pixels(x, y);
+    let (u, w) = (u - 0.5, w - 0.5);
+    let (i0, j0) = (u.floor(), w.floor());
+    let (fu, fw) = (u - i0, w - j0);
+    let mut out = DVec3::ZERO;
+    for (dj, wj) in [(0.0, 1.0 - fw), (1.0, fw)] {
+        for (di, wi) in [(0.0, 1.0 - fu), (1.0, fu)] {
+            let (i, j) = (i0 + di, j0 + dj);
+            if i >= 0.0 && j >= 0.0 && (i as usize) < grid.nx && (j as usize) < grid.ny && wi * wj > 0.0 {
+                out += v[j as usize * grid.nx + i as usize] * (wi * wj);
+            }
+        }
+    }
+    out
+}
+
+/// Film radii the transmittance is sampled at (from the centre to the
+/// corner), and rays per radius (a square grid over the last surface).
+const T_RADII: usize = 24;
+const T_RAYS: usize = 12;
+
+/// Multiplies the film by the lens's transmittance for light reaching each
+/// film radius: per wavelength, the mean over rays from the film point to
+/// a grid over the last surface's clear aperture of the product of 1 - R
+/// along their reverse trace, then as a colour (each channel's share of a
+/// flat spectrum).
+fn dim_by_transmittance(
+    cam: &RealLensCamera,
+    lenses: &[Prescription],
+    colours: &[DVec3],
+    w: usize,
+    h: usize,
+    film: &mut [DVec3],
+) {
+    let [sw, sh] = cam.sensor_mm();
+    let corner = 0.5 * (sw * sw + sh * sh).sqrt();
+    let table: Vec<DVec3> = (0..=T_RADII)
+        .into_par_iter()
+        .map(|k| {
+            let r = corner * k as f64 / T_RADII as f64;
+            let white: DVec3 = colours.iter().sum();
+            let mut sum = DVec3::ZERO;
+            for (p, c) in lenses.iter().zip(colours) {
+                sum += *c * transmittance(p, r);
+            }
+            sum / white.max(DVec3::splat(1e-12))
+        })
+        .collect();
+    for (row, line) in film.chunks_mut(w).enumerate().take(h) {
+        for (col, px) in line.iter_mut().enumerate() {
+            let fx = (0.5 - (col as f64 + 0.5) / w as f64) * sw;
+            let fy = ((row as f64 + 0.5) / h as f64 - 0.5) * sh;
+            let t = (fx * fx + fy * fy).sqrt() / corner * T_RADII as f64;
+            let k = (t.floor() as usize).min(T_RADII - 1);
+            let f = (t - k as f64).clamp(0.0, 1.0);
+            *px *= table[k] * (1.0 - f) + table[k + 1] * f;
+        }
+    }
+}
+
+/// The mean transmittance (product of 1 - R) of the rays from film point
+/// (0, r) through `p` back to object space, over a grid on its last
+/// surface; 1 where none passes.
+fn transmittance(p: &Prescription, r: f64) -> f64 {
+    let tracer = Tracer::reverse(p);
+    let n = p.surfaces().len();
+    let last = &p.surfaces()[n - 1];
+    let sd = last.semi_diameter.unwrap_or(p.stop_semi_diameter() * 2.0);
+    let z_last = p.last_vertex_z();
+    let film = DVec3::new(0.0, r, z_last + p.film_distance());
+    let (mut sum, mut count) = (0.0, 0usize);
+    for j in 0..T_RAYS {
+        for i in 0..T_RAYS {
+            let (x, y) = (
+                sd * (2.0 * (i as f64 + 0.5) / T_RAYS as f64 - 1.0),
+                sd * (2.0 * (j as f64 + 0.5) / T_RAYS as f64 - 1.0),
+            );
+            if x * x + y * y > sd * sd {
+                continue;
+            }
+            let Some(ray) = Ray::new(film, DVec3::new(x, y, z_last) - film) else { continue };
+            if let (Outcome::Reached { .. }, t) = tracer.trace_fresnel(ray) {
+                sum += t;
+                count += 1;
+            }
+        }
+    }
+    if count == 0 {
+        1.0
+    } else {
+        sum / count as f64
+    }
+}
+
+/// The veil of glare (linear sRGB, the same at every pixel): each source's
+/// light entering the lens (its primary image's power at the primary
+/// wavelength, scaled per wavelength by its radiance) times the share that
+/// leaves by four reflections or more (incoherent multiple reflection at
+/// normal incidence, less the primary and the two-reflection ghosts),
+/// over the frame's area.
+fn glare_veil(lenses: &[Prescription], colours: &[DVec3], sources: &[Bright], norm: f64, frame_mm2: f64) -> DVec3 {
+    let primary = lenses.len() / 2;
+    let p = &lenses[primary];
+    let film = FilmGrid { centre_mm: [0.0; 2], pixel_mm: 1.0, nx: 1, ny: 1 };
+    let forward = Tracer::forward(p);
+    let mut out = DVec3::ZERO;
+    for (k, lens_k) in lenses.iter().enumerate() {
+        let share = higher_order_share(lens_k);
+        for b in sources {
+            let e = Entrance::of(p, &b.source);
+            let entering = rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, 0).total;
+            out += colours[k] * (entering * b.scale * b.radiance[k] * share / (norm * frame_mm2));
+        }
+    }
+    out
+}
+
+/// The share of the light entering `p` that reaches the image side after
+/// four or more reflections, at normal incidence (incoherent: powers add),
+/// at the prescription's wavelength.
+fn higher_order_share(p: &Prescription) -> f64 {
+    let s = p.surfaces();
+    let nm = p.wavelength_nm();
+    let r: Vec<f64> = (0..s.len())
+        .filter(|&k| s[k].paraxial.is_none() && p.index_before(k) != s[k].ior)
+        .map(|k| p.coating(k).reflectance(p.index_before(k), s[k].ior, 1.0, nm, false))
+        .collect();
+    // the stack's transmittance with every multiple reflection: adding a
+    // surface of reflectance R to a stack of (T, R_back) gives T T_s / (1 -
+    // R_back R)
+    let (mut t, mut r_back) = (1.0, 0.0);
+    for &rk in &r {
+        let tk = 1.0 - rk;
+        let denom = 1.0 - r_back * rk;
+        let t_new = t * tk / denom;
+        r_back = rk + tk * tk * r_back / denom;
+        t = t_new;
+    }
+    let direct: f64 = r.iter().map(|rk| 1.0 - rk).product();
+    let mut ghosts = 0.0;
+    for j in 0..r.len() {
+        for i in 0..j {
+            ghosts += r[i] * r[j];
+        }
+    }
+    (t - direct * (1.0 + ghosts)).max(0.0)
+}

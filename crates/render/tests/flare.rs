@@ -1,0 +1,145 @@
+//! Lens flare in renders (`film.flare`): the ghost layer against the lens
+//! crate's brute-force reference (rays reflecting or refracting at random
+//! at every surface), and the primary image dimmed by what the surfaces
+//! reflect.
+
+use glam::DVec3;
+use lens::ghost::image::Entrance;
+use lens::ghost::reference::{brute_force, favouring};
+use lens::ghost::{FilmGrid, GhostImage, Source};
+use render::camera::flare::ghost_layer;
+use render::camera::Camera;
+use render::scene::format::SceneFile;
+use render::{render, Options, Scene};
+use std::path::Path;
+
+fn data() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../lens-data/scenes")
+}
+
+/// One lamp (radiance 1000, radius 2 cm) at `lamp` (m) seen through the
+/// uncoated 100 mm singlet, at 550 nm alone, on a 160 x 120 film of 36 x
+/// 27 mm (square pixels).
+fn lamp_scene(lamp: DVec3, flare: &str) -> Scene {
+    let json = format!(
+        r#"{{"camera": {{"type": "lens", "prescription": "../singlet-n-bk7-100mm.json", "f_number": 5.6,
+              "focus_distance": 3.0, "sensor_mm": [36, 27], "coating": "none",
+              "position": [0, 0, 0], "look_at": [0, 0, 1]}},
+            "film": {{"width": 160, "height": 120, "spp": 16, "wavelength_nm": 550, "flare": "{flare}"}},
+            "materials": {{"l": {{"type": "emissive", "radiance": [1000, 1000, 1000]}}}},
+            "shapes": [{{"type": "sphere", "center": [{}, {}, {}], "radius": 0.02, "material": "l"}}]}}"#,
+        lamp.x, lamp.y, lamp.z
+    );
+    let file: SceneFile = serde_json::from_str(&json).unwrap();
+    Scene::build(file, &data(), "<test>").unwrap()
+}
+
+/// The rendered ghost of the singlet (its one ghost, surfaces 1 and 2)
+/// against the brute-force reference traced from the same lamp: the
+/// same energy within 2%, the same centroid within a pixel, the same
+/// image within the reference's noise (pixels where either has light).
+#[test]
+fn rendered_ghost_matches_the_brute_force_reference() {
+    let lamp = DVec3::new(0.25, 0.15, 4.0);
+    let scene = lamp_scene(lamp, "ghosts");
+    let Camera::Real(cam) = &scene.camera else { panic!("a real lens") };
+    let (w, h) = (160usize, 120usize);
+    let layer = ghost_layer(&scene, cam, w, h, 0.0);
+    let got: Vec<f64> = layer.iter().map(|v| v.y).collect();
+    // the reference: the lamp as a point of intensity L pi rho^2 (mm^2)
+    // at its centre, in the lens frame, L its radiance at 550 nm (the RGB
+    // white of 1000 as a spectrum)
+    let at = render::transport::Spectral::new(render::spectrum::SampledWavelengths::single(550.0));
+    let radiance = scene.materials[scene.material_of[0]].emitted(&at, 1.0).0[0];
+    let p = cam.prescription().at_wavelength(550.0).unwrap();
+    let centre = cam.point_to_lens(lamp);
+    let rho: f64 = 20.0;
+    let r = (centre - DVec3::new(0.0, 0.0, -1.0)).length();
+    let intensity = radiance * std::f64::consts::TAU * (1.0 - (1.0 - (rho / r).powi(2)).sqrt()) * r * r;
+    let source = Source::Point(centre);
+    let [sw, _] = cam.sensor_mm();
+    let pix = sw / w as f64;
+    let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: pix, nx: w, ny: h };
+    let tracer = lens::Tracer::ghost(&p, 0, 1, p.film_distance()).unwrap();
+    let near = Entrance::of(&p, &source).around_passing(&tracer, &source, 128, 8).unwrap();
+    const RUNS: usize = 8;
+    let runs: Vec<GhostImage> = (0..RUNS as u64)
+        .map(|seed| {
+            let mut all = brute_force(&p, &source, &near, &grid, 500_000, &favouring(vec![0, 1], 0.5), seed);
+            all.remove(&vec![1, 0]).unwrap()
+        })
+        .collect();
+    // to film units (a pixel is 1 / (norm A_pix) of the power in it), the
+    // film's x mirrored (u = 0.5 - x / sensor width)
+    let to_film = |img: &GhostImage| -> Vec<f64> {
+        let mut out = vec![0.0; w * h];
+        for (k, v) in img.power.iter().enumerate() {
+            let (i, j) = (k % w, k / w);
+            out[j * w + (w - 1 - i)] = v * intensity / (cam.centre_weight() * pix * pix);
+        }
+        out
+    };
+    let refs: Vec<Vec<f64>> = runs.iter().map(to_film).collect();
+    let mean: Vec<f64> = (0..w * h).map(|k| refs.iter().map(|r| r[k]).sum::<f64>() / RUNS as f64).collect();
+    let totals: Vec<f64> = refs.iter().map(|r| r.iter().sum()).collect();
+    let total = totals.iter().sum::<f64>() / RUNS as f64;
+    let spread = (totals.iter().map(|t| (t - total).powi(2)).sum::<f64>() / (RUNS as f64 * (RUNS - 1) as f64)).sqrt();
+    let sum: f64 = got.iter().sum();
+    let centroid = |v: &[f64]| {
+        let s: f64 = v.iter().sum();
+        let (mut x, mut y) = (0.0, 0.0);
+        for (k, a) in v.iter().enumerate() {
+            x += a * ((k % w) as f64 + 0.5);
+            y += a * ((k / w) as f64 + 0.5);
+        }
+        (x / s, y / s)
+    };
+    let (a, b) = (centroid(&got), centroid(&mean));
+    let noise: f64 = (0..w * h)
+        .map(|k| {
+            let m = mean[k];
+            refs.iter().map(|r| (r[k] - m).powi(2)).sum::<f64>() / ((RUNS - 1) * RUNS) as f64
+        })
+        .sum();
+    let lit: Vec<usize> = (0..w * h).filter(|&k| got[k] > 0.0 || mean[k] > 0.0).collect();
+    let err: f64 = lit.iter().map(|&k| (got[k] - mean[k]).powi(2)).sum();
+    eprintln!(
+        "ghost energy {sum:.4} vs {total:.4} +- {spread:.4}; centroid ({:.2}, {:.2}) vs ({:.2}, {:.2}) px; sq. error {err:.3e} vs the reference's noise {noise:.3e}",
+        a.0, a.1, b.0, b.1
+    );
+    assert!(sum > 0.0);
+    assert!((sum - total).abs() < 0.02 * total, "{sum} vs {total}");
+    assert!(((a.0 - b.0).powi(2) + (a.1 - b.1).powi(2)).sqrt() < 1.0, "{a:?} vs {b:?}");
+    assert!(err < 1.5 * noise, "{err} vs {noise}");
+}
+
+/// With flare on, the primary image loses what the two faces reflect: the
+/// lamp's light, less the ghost layer, is (1 - R)^2 of the light without
+/// flare (bare N-BK7 at 550 nm, the lamp near the axis), and the ghost
+/// layer holds less than R^2 of it (the rest of the ghost falls off the
+/// frame).
+#[test]
+fn the_primary_image_loses_what_the_surfaces_reflect() {
+    let lamp = DVec3::new(0.02, 0.0, 4.0);
+    let opt = Options { spp: 16, seed: 3 };
+    let off = render(&lamp_scene(lamp, "off"), opt, &|_| {}).0;
+    let scene = lamp_scene(lamp, "ghosts");
+    let on = render(&scene, opt, &|_| {}).0;
+    let Camera::Real(cam) = &scene.camera else { panic!("a real lens") };
+    let layer = ghost_layer(&scene, cam, 160, 120, 0.0);
+    let sum = |v: &[DVec3]| v.iter().map(|p| p.y).sum::<f64>();
+    let (e_off, e_on, e_ghost) = (sum(&off.pixels), sum(&on.pixels), sum(&layer));
+    let n = cam.prescription().at_wavelength(550.0).unwrap().surfaces()[0].ior;
+    let r = ((n - 1.0) / (n + 1.0)).powi(2);
+    let kept = (e_on - e_ghost) / e_off;
+    eprintln!(
+        "kept {kept:.5} vs (1 - R)^2 = {:.5}; ghost / primary {:.3e} vs R^2 = {:.3e}",
+        (1.0 - r).powi(2),
+        e_ghost / e_off,
+        r * r
+    );
+    assert!((kept - (1.0 - r).powi(2)).abs() < 0.005, "{kept}");
+    // the singlet's ghost is wider than the frame: the frame holds part of
+    // its R^2 (1 - R)^2
+    assert!(e_ghost > 0.0 && e_ghost < r * r * e_off, "{e_ghost} vs {}", r * r * e_off);
+}

@@ -84,6 +84,10 @@ pub struct Args {
     /// (overrides the scene's film.flare).
     #[arg(long, value_name = "MODE")]
     flare: Option<::render::scene::format::FlareSpec>,
+    /// Diffraction at a real lens's aperture: off or on (overrides the
+    /// scene's film.diffraction).
+    #[arg(long, value_name = "off|on")]
+    diffraction: Option<::render::scene::format::DiffractionSpec>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -175,6 +179,7 @@ pub fn run(a: Args) -> CmdResult {
         strict_glass_range: a.glass_range.strict_glass_range,
         flare: a.flare,
         coating: None,
+        diffraction: a.diffraction,
     };
     let mut scene = Scene::load_with(&a.scene, &overrides)?;
     // every output checked before any work: formats, folders, and none of

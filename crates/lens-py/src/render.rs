@@ -87,6 +87,7 @@ pub fn render<'py>(
         strict_glass_range: false,
         flare: None,
         coating: None,
+        diffraction: None,
     };
     let s = ::render::Scene::load_with(&scene, &overrides).map_err(|e| RenderError::new_err(e.to_string()))?;
     for w in &s.glass_warnings {

@@ -137,6 +137,10 @@ pub fn render_with(
             lamps.render(scene, cam, &fp, &mut film);
         }
         crate::camera::flare::render(scene, cam, &fp, &mut film);
+        if scene.film.diffraction == crate::scene::format::DiffractionSpec::On {
+            let k = crate::camera::diffraction::kernel(cam, &scene.colour, w, h);
+            crate::camera::diffraction::convolve(&mut film, w, h, &k);
+        }
     }
     let stats = Stats { camera_rays: w * h * plan.spp, camera_rays_passed: passed.load(Ordering::Relaxed) };
     (Image { width: w, height: h, pixels: film }, stats)

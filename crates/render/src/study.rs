@@ -53,6 +53,9 @@ pub struct Settings {
     /// Lens flare: `"off"`, `"ghosts"` or `"ghosts+glare"`.
     #[serde(default)]
     pub flare: Option<String>,
+    /// Diffraction at the aperture: `"off"` or `"on"`.
+    #[serde(default)]
+    pub diffraction: Option<String>,
     /// Every surface's coating of a real lens: `"none"`, `"MgF2"` or thin
     /// films (`camera.coating`).
     #[serde(default)]
@@ -132,6 +135,9 @@ impl Settings {
         }
         if let Some(f) = &self.flare {
             o.flare = Some(f.parse().map_err(|e| format!("{what}.flare: {e}"))?);
+        }
+        if let Some(d) = &self.diffraction {
+            o.diffraction = Some(d.parse().map_err(|e| format!("{what}.diffraction: {e}"))?);
         }
         if let Some(c) = &self.coating {
             c.coating().map_err(|e| format!("{what}.coating: {e}"))?;

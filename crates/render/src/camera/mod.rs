@@ -3,6 +3,7 @@
 //! scene ray and a weight (0 when the ray is blocked inside the lens).
 
 pub mod aperture;
+pub mod diffraction;
 pub mod flare;
 pub mod lamp_light;
 pub mod pupil;

@@ -553,6 +553,11 @@ impl RealLensCamera {
         self.back.trace(batch, spectral, t, shape);
     }
 
+    /// The stop's shape (unit scale: the stop's clear radius is 1).
+    pub fn aperture(&self) -> &Aperture {
+        &self.aperture
+    }
+
     /// The film position (u, v in [0, 1], v down) of a lens-frame film
     /// point (mm): the inverse of the film mapping of [`Self::rays`].
     pub(crate) fn film_uv(&self, fx: f64, fy: f64) -> (f64, f64) {

@@ -250,6 +250,33 @@ pub struct FilmSpec {
     /// reflections).
     #[serde(default)]
     pub flare: FlareSpec,
+    /// Diffraction at a real lens's aperture: `"off"` (default) or `"on"`
+    /// (the film convolved with the aperture's diffraction pattern:
+    /// starbursts, the Airy blur; docs/rendering.md).
+    #[serde(default)]
+    pub diffraction: DiffractionSpec,
+}
+
+/// Whether a real-lens render adds diffraction at the aperture.
+#[derive(Debug, Clone, Copy, Deserialize, Default, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum DiffractionSpec {
+    /// Geometric optics alone.
+    #[default]
+    Off,
+    /// The aperture's diffraction pattern applied to the film.
+    On,
+}
+
+impl std::str::FromStr for DiffractionSpec {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, String> {
+        match s {
+            "off" => Ok(DiffractionSpec::Off),
+            "on" => Ok(DiffractionSpec::On),
+            _ => Err(format!("{s}: write off or on")),
+        }
+    }
 }
 
 /// Which lens flare a real-lens render adds (docs/rendering.md).

@@ -55,6 +55,8 @@ pub struct Overrides {
     pub flare: Option<super::format::FlareSpec>,
     /// Every surface's coating of a real lens (`camera.coating`).
     pub coating: Option<lens::model::CoatingSpec>,
+    /// Diffraction at the aperture (`film.diffraction`).
+    pub diffraction: Option<super::format::DiffractionSpec>,
 }
 
 /// A field name and what is wrong with it.
@@ -96,6 +98,9 @@ impl Overrides {
         }
         if let Some(f) = self.flare {
             file.film.flare = f;
+        }
+        if let Some(d) = self.diffraction {
+            file.film.diffraction = d;
         }
         if let Some(s) = self.spp {
             file.film.spp = s;

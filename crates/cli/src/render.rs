@@ -278,8 +278,13 @@ pub fn run(a: Args) -> CmdResult {
         ColourMode::Spectral(r) => format!("spectral {:.0}-{:.0} nm", r.nm()[0], r.nm()[1]),
         ColourMode::Monochromatic(nm) => format!("at {nm} nm"),
     };
+    let flare = if stats.flare_seconds > 0.0 {
+        format!(" (flare and diffraction {:.2} s of it)", stats.flare_seconds)
+    } else {
+        String::new()
+    };
     eprintln!(
-        "{} x {} at {spp} spp ({colour}) in {secs:.2} s; camera rays through the lens: {:.1}%; camera: {}",
+        "{} x {} at {spp} spp ({colour}) in {secs:.2} s{flare}; camera rays through the lens: {:.1}%; camera: {}",
         image.width,
         image.height,
         100.0 * stats.pass_rate(),

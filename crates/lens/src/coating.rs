@@ -63,6 +63,27 @@ impl Coating {
     /// order (`reversed` for light going the other way). 1 beyond the
     /// critical angle (total internal reflection).
     pub fn reflectance(&self, n1: f64, n2: f64, cos1: f64, nm: f64, reversed: bool) -> f64 {
+        // bare and single-layer surfaces in real arithmetic where no
+        // medium is evanescent (the closed forms of the general path)
+        match self {
+            Coating::None => {
+                if let Some(r) = bare_real(n1, n2, cos1) {
+                    return r;
+                }
+            }
+            Coating::MgF2 { design_nm } => {
+                let layer = Layer { index: MGF2_INDEX, thickness_nm: design_nm / (4.0 * MGF2_INDEX) };
+                if let Some(r) = single_layer_real(n1, layer, n2, cos1, nm) {
+                    return r;
+                }
+            }
+            Coating::Layers(l) if l.len() == 1 => {
+                if let Some(r) = single_layer_real(n1, l[0], n2, cos1, nm) {
+                    return r;
+                }
+            }
+            Coating::Layers(_) => {}
+        }
         let mut layers = self.layers();
         if reversed {
             layers.reverse();
@@ -115,6 +136,55 @@ pub fn stack_reflectance(n_in: f64, layers: &[Layer], n_out: f64, cos_in: f64, n
         return (1.0, 1.0);
     }
     (r(ys_in, bc_s), r(yp_in, bc_p))
+}
+
+/// The cosine of the angle in a medium of index `n` of light with the
+/// invariant `n1 sin1`, squared sine given as `sin2 = (n1 sin1)^2`; `None`
+/// where the light is evanescent there.
+fn cos_in(n: f64, sin2: f64) -> Option<f64> {
+    let c2 = 1.0 - sin2 / (n * n);
+    (c2 > 0.0).then(|| c2.sqrt())
+}
+
+/// The s and p amplitude reflection coefficients between media `a` and `b`
+/// for light at cosines `ca` and `cb` (real: no evanescence).
+fn fresnel_amplitudes(a: f64, ca: f64, b: f64, cb: f64) -> (f64, f64) {
+    ((a * ca - b * cb) / (a * ca + b * cb), (b * ca - a * cb) / (b * ca + a * cb))
+}
+
+/// [`Coating::None`]'s reflectance in real arithmetic; `None` past the
+/// critical angle (or at grazing incidence), left to the general path.
+fn bare_real(n1: f64, n2: f64, cos1: f64) -> Option<f64> {
+    let c1 = cos1.clamp(0.0, 1.0);
+    if c1 == 0.0 {
+        return None;
+    }
+    let sin2 = (1.0 - c1 * c1) * n1 * n1;
+    let c2 = cos_in(n2, sin2)?;
+    let (rs, rp) = fresnel_amplitudes(n1, c1, n2, c2);
+    Some(0.5 * (rs * rs + rp * rp))
+}
+
+/// One thin film's reflectance in real arithmetic (Airy's sum of the
+/// film's multiple reflections: |r|^2 = (r01^2 + r12^2 + 2 r01 r12 cos
+/// 2d) / (1 + r01^2 r12^2 + 2 r01 r12 cos 2d) per polarisation, d the
+/// film's phase thickness); `None` where any medium is evanescent.
+fn single_layer_real(n1: f64, layer: Layer, n2: f64, cos1: f64, nm: f64) -> Option<f64> {
+    let c1 = cos1.clamp(0.0, 1.0);
+    if c1 == 0.0 {
+        return None;
+    }
+    let sin2 = (1.0 - c1 * c1) * n1 * n1;
+    let cf = cos_in(layer.index, sin2)?;
+    let c2 = cos_in(n2, sin2)?;
+    let (s01, p01) = fresnel_amplitudes(n1, c1, layer.index, cf);
+    let (s12, p12) = fresnel_amplitudes(layer.index, cf, n2, c2);
+    let cos2d = (4.0 * PI * layer.index * layer.thickness_nm * cf / nm).cos();
+    let r = |a: f64, b: f64| {
+        let cross = 2.0 * a * b * cos2d;
+        (a * a + b * b + cross) / (1.0 + a * a * b * b + cross)
+    };
+    Some(0.5 * (r(s01, s12) + r(p01, p12)))
 }
 
 /// The Fresnel reflectance of a bare surface for unpolarised light: the
@@ -179,6 +249,32 @@ mod tests {
         assert!(c.reflectance(1.0, ns, 1.0, 420.0, false) > want);
         let half = Coating::Layers(vec![Layer { index: 2.0, thickness_nm: 550.0 / 4.0 }]);
         assert_relative_eq!(half.reflectance(1.0, ns, 1.0, 550.0, false), fresnel(1.0, ns, 1.0), max_relative = 1e-12);
+    }
+
+    /// The real-arithmetic forms (bare, one film) equal the general
+    /// characteristic-matrix path at every angle, wavelength and pair of
+    /// media, past the critical angle too (where they defer to it).
+    #[test]
+    fn real_forms_equal_the_general_path() {
+        let mut next = crate::trace::uniform(42);
+        for _ in 0..20_000 {
+            let (n1, n2) = (1.0 + next(), 1.0 + next());
+            let cos1 = next();
+            let nm = 380.0 + 400.0 * next();
+            let layer = Layer { index: 1.2 + next(), thickness_nm: 300.0 * next() };
+            let general = |l: &[Layer]| {
+                let (s, p) = stack_reflectance(n1, l, n2, cos1, nm);
+                0.5 * (s + p)
+            };
+            let bare = Coating::None.reflectance(n1, n2, cos1, nm, false);
+            assert!((bare - general(&[])).abs() < 1e-12, "bare {n1} {n2} {cos1}: {bare} vs {}", general(&[]));
+            let one = Coating::Layers(vec![layer]).reflectance(n1, n2, cos1, nm, false);
+            assert!(
+                (one - general(&[layer])).abs() < 1e-12,
+                "{layer:?} {n1} {n2} {cos1} {nm}: {one} vs {}",
+                general(&[layer])
+            );
+        }
     }
 
     /// A lossless stack reflects the same from either side at angles Snell

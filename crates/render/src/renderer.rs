@@ -36,6 +36,9 @@ pub struct Stats {
     /// Camera rays that made it through the lens (all of them for pinhole
     /// and thin-lens cameras).
     pub camera_rays_passed: usize,
+    /// Seconds spent on lens flare and diffraction (`film.flare`,
+    /// `film.diffraction`; 0 when both are off), of the render's time.
+    pub flare_seconds: f64,
 }
 
 impl Stats {
@@ -131,18 +134,22 @@ pub fn render_with(
             .collect();
         add_band(&mut film, band, rows, &plan);
     }
+    let mut flare_seconds = 0.0;
     if let Camera::Real(cam) = &scene.camera {
         let fp = FilmPlan { width: w, height: h, filter: scene.film.filter, colour: &scene.colour, seed: opt.seed };
         if let Some(lamps) = &plan.lamps {
             lamps.render(scene, cam, &fp, &mut film);
         }
+        let t = std::time::Instant::now();
         crate::camera::flare::render(scene, cam, &fp, &mut film);
         if scene.film.diffraction == crate::scene::format::DiffractionSpec::On {
             let k = crate::camera::diffraction::kernel(cam, &scene.colour, w, h);
             crate::camera::diffraction::convolve(&mut film, w, h, &k);
         }
+        flare_seconds = t.elapsed().as_secs_f64();
     }
-    let stats = Stats { camera_rays: w * h * plan.spp, camera_rays_passed: passed.load(Ordering::Relaxed) };
+    let stats =
+        Stats { camera_rays: w * h * plan.spp, camera_rays_passed: passed.load(Ordering::Relaxed), flare_seconds };
     (Image { width: w, height: h, pixels: film }, stats)
 }
 

@@ -45,7 +45,7 @@ fn at(k: &Kernel, dx: f64, dy: f64) -> f64 {
 #[test]
 fn ideal_lens_at_f16_has_its_first_dark_ring_at_1_22_lambda_n() {
     let s = scene(
-        r#"{"camera": {"type": "lens", "prescription": "../paraxial-50mm-f16.json", "sensor_mm": [0.2, 0.2],
+        r#"{"camera": {"type": "lens", "prescription": "../../crates/render/tests/data/ideal-50mm-f16.json", "sensor_mm": [0.2, 0.2],
               "focus_distance": 1e6, "position": [0, 0, 0], "look_at": [0, 0, 1]},
             "film": {"width": 200, "height": 200, "spp": 1, "wavelength_nm": 550, "diffraction": "on"},
             "materials": {}, "shapes": []}"#,

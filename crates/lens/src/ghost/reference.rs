@@ -15,7 +15,6 @@
 use super::image::{Entrance, FilmGrid, GhostImage, Source};
 use crate::model::Prescription;
 use crate::trace::{Outcome, Ray, Tracer};
-use glam::DVec3;
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::{RngExt, SeedableRng};
 use rayon::prelude::*;
@@ -85,16 +84,7 @@ pub fn brute_force(
             for _ in c * CHUNK..((c + 1) * CHUNK).min(rays) {
                 let x = entrance.centre[0] + entrance.half_mm * (2.0 * rng.random::<f64>() - 1.0);
                 let y = entrance.centre[1] + entrance.half_mm * (2.0 * rng.random::<f64>() - 1.0);
-                let at = DVec3::new(x, y, entrance.z_mm);
-                let (ray, density) = match *source {
-                    Source::Direction(d) => (Ray::new(at, d), d.z.abs()),
-                    Source::Point(q) => {
-                        let v = at - q;
-                        let r2 = v.length_squared();
-                        (Ray::new(at, v), v.z.abs() / (r2 * r2.sqrt()))
-                    }
-                };
-                let Some(ray) = ray else { continue };
+                let Some((ray, density)) = entrance.ray_at(source, x, y) else { continue };
                 if let Some((path, hit, w)) = walk(&events, ray, film_z, choice, &mut rng) {
                     out.push((path, hit, w * density * area / rays as f64));
                 }

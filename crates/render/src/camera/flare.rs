@@ -57,7 +57,7 @@ const LOOK_CELLS: usize = 16;
 const DRAW_CELLS: usize = 24;
 /// Times a drawn cell whose corners disagree (at a clear aperture's edge)
 /// is split.
-const DRAW_SPLITS: u32 = 2;
+const DRAW_SPLITS: u32 = 4;
 /// The most grid pixels across a ghost's drawing: a larger ghost goes to
 /// a grid of pixels 2, 4, 8 or 16 film pixels wide.
 const DRAW_PIXELS: f64 = 96.0;
@@ -182,9 +182,10 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
                     let b = &sources[si];
                     let t = Tracer::ghost(lens_k, i, j, lens_k.film_distance())?;
                     let e = Entrance::of(lens_k, &b.source);
-                    // the part of the level's grid over the ghost (a margin
-                    // of a look pixel for dispersion and the coarse look)
-                    let m = 8.0 * pix;
+                    // the part of the level's grid over the ghost, with a
+                    // margin of half its extent and 16 of its pixels (the
+                    // other wavelengths' ghosts differ, the look was coarse)
+                    let m = 0.5 * (hi[0] - lo[0]).max(hi[1] - lo[1]) + 16.0 * lp;
                     let (a0, b0) = grid.to_pixels(lo[0] - m, lo[1] - m);
                     let (a1, b1) = grid.to_pixels(hi[0] + m, hi[1] + m);
                     let i0 = (a0.floor().max(0.0) as usize).min(grid.nx);

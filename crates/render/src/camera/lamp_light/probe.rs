@@ -99,7 +99,8 @@ impl Probe<'_> {
         // camera paths, which do better where an image is resolved
         let (clo, chi) = bounds(&first.centres);
         let blur = (chi - clo).length();
-        if first.centres.is_empty() || 2.0 * first.spread >= blur {
+        let own = self.own_image(&source, &first, rho, coarse);
+        if first.centres.is_empty() || 2.0 * first.spread.max(own) >= blur {
             return None;
         }
         let live = dilate(&first.live, COARSE);
@@ -186,6 +187,66 @@ impl Probe<'_> {
             }
         }
         out
+    }
+}
+
+impl Probe<'_> {
+    /// The radius (pixels) of the source's own image: the largest distance
+    /// on the film from where its centre's ray lands to where its rim's do,
+    /// all from the passing cell nearest the grid's centre (`rho` its half
+    /// width, `cell` its cells' side). The grid's own spread misses it
+    /// where the probes are thinned to the cell (a small source in focus
+    /// sends every probe but its centre's through the same cell). 0 where
+    /// no cell passed.
+    fn own_image(&self, source: &Source, first: &Probed, rho: f64, cell: f64) -> f64 {
+        let g = (0..COARSE * COARSE)
+            .filter(|&k| first.live[k])
+            .map(|k| {
+                DVec3::new(
+                    -rho + ((k % COARSE) as f64 + 0.5) * cell,
+                    -rho + ((k / COARSE) as f64 + 0.5) * cell,
+                    self.z0,
+                )
+            })
+            .min_by(|a, b| a.truncate().length().total_cmp(&b.truncate().length()));
+        let Some(g) = g else { return 0.0 };
+        // toward the source: its centre first, then its rim
+        let omegas: Vec<DVec3> = match source {
+            Source::Sphere { centre, radius, .. } => {
+                let to = *centre - g;
+                let dist = to.length();
+                if dist <= *radius {
+                    return 0.0;
+                }
+                let axis = to / dist;
+                let (sin, cos) = (radius / dist, (1.0 - (radius / dist).powi(2)).sqrt());
+                let (e1, e2) = axis.any_orthonormal_pair();
+                std::iter::once(axis)
+                    .chain((0..16).map(|k| {
+                        let phi = std::f64::consts::TAU * k as f64 / 16.0;
+                        axis * cos + (e1 * phi.cos() + e2 * phi.sin()) * sin
+                    }))
+                    .collect()
+            }
+            Source::Sky(patch) => patch.probe_directions().into_iter().map(|d| self.cam.dir_to_lens(d)).collect(),
+        };
+        let mut batch = SpectralBatch::with_capacity(omegas.len());
+        for omega in &omegas {
+            batch.push(lens::Ray { origin: g, direction: -*omega }, self.nms[0]);
+        }
+        let mut t = Vec::new();
+        self.cam.trace_to_film(&mut batch, self.spectral, &mut t);
+        let (w, h) = self.film;
+        let b = &batch.rays;
+        let at = |i: usize| {
+            let (u, v) = self.cam.film_uv(b.x[i], b.y[i]);
+            DVec2::new(u * w as f64, v * h as f64)
+        };
+        if b.status[0] != 0 {
+            return 0.0;
+        }
+        let centre = at(0);
+        (1..omegas.len()).filter(|&i| b.status[i] == 0).map(|i| (at(i) - centre).length()).fold(0.0, f64::max)
     }
 }
 

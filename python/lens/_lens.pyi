@@ -180,6 +180,9 @@ def render(
     prescription: Optional[_Path] = None,
     threads: Optional[int] = None,
     focus_on: Optional[Union[str, Tuple[float, float]]] = None,
+    flare: Optional[str] = None,
+    diffraction: Optional[Union[str, bool]] = None,
+    coating: Optional[Union[str, list[Union[dict[str, float], Tuple[float, float]]]]] = None,
 ) -> npt.NDArray[np.float32]: ...
 def _tolerance_share(
     spec: str,

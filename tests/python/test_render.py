@@ -45,3 +45,31 @@ def test_focus_on_a_pixel():
         assert "not both" in str(e)
     else:
         raise AssertionError("both were taken")
+
+
+def test_flare_diffraction_and_coating_overrides():
+    # the sun through a wide angle: ghosts add light off the sun's image,
+    # bare glass makes them brighter, diffraction moves light without
+    # making any; bad values are refused by name
+    scene = "lens-data/scenes/flare-sun-wide-angle.json"
+    kw = dict(width=96, spp=2, threads=2)
+    off = lens.render(scene, flare="off", **kw)
+    ghosts = lens.render(scene, flare="ghosts", **kw)
+    bare = lens.render(scene, flare="ghosts", coating="none", **kw)
+    layers = lens.render(scene, flare="ghosts", coating=[(1.38, 99.6)], **kw)
+    assert np.isfinite(ghosts).all() and not np.array_equal(off, ghosts)
+    halo = lambda img: float(np.abs(img - off).sum())  # noqa: E731
+    assert halo(bare) > 2 * halo(ghosts) > 0
+    assert 0.5 < halo(layers) / halo(ghosts) < 2.0
+    spread = lens.render(scene, flare="off", diffraction=True, **kw)
+    assert not np.array_equal(off, spread)
+    assert abs(spread.sum() / off.sum() - 1.0) < 0.02
+    assert np.array_equal(lens.render(scene, flare="off", diffraction="off", **kw), off)
+    for bad in [dict(flare="lots"), dict(diffraction="maybe"), dict(coating="gold"),
+                dict(coating=[{"index": 0.5, "thickness_nm": 100.0}])]:
+        try:
+            lens.render(scene, **kw, **bad)
+        except ValueError as e:
+            assert list(bad)[0] in str(e)
+        else:
+            raise AssertionError(f"{bad!r} was rendered")

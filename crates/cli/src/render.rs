@@ -88,6 +88,11 @@ pub struct Args {
     /// scene's film.diffraction).
     #[arg(long, value_name = "off|on")]
     diffraction: Option<::render::scene::format::DiffractionSpec>,
+    /// Every surface's coating of a real lens: none or MgF2 (overrides the
+    /// prescription's and the scene's camera.coating; layer lists go in the
+    /// scene file).
+    #[arg(long, value_name = "none|MgF2", value_parser = parse_coating)]
+    coating: Option<lens::model::CoatingSpec>,
     /// Worker threads (default: all cores).
     #[arg(long)]
     threads: Option<usize>,
@@ -158,6 +163,13 @@ fn report_plots(md: &std::path::Path) -> [std::path::PathBuf; 2] {
     ["svg", "png"].map(|ext| md.with_file_name(format!("{stem}-plot.{ext}")))
 }
 
+/// `--coating`: a coating's name, checked as the scene file's.
+fn parse_coating(s: &str) -> Result<lens::model::CoatingSpec, String> {
+    let spec = lens::model::CoatingSpec::Name(s.to_string());
+    spec.coating()?;
+    Ok(spec)
+}
+
 pub fn run(a: Args) -> CmdResult {
     let overrides = ::render::scene::Overrides {
         width: a.width,
@@ -178,7 +190,7 @@ pub fn run(a: Args) -> CmdResult {
         prescription: a.prescription.clone(),
         strict_glass_range: a.glass_range.strict_glass_range,
         flare: a.flare,
-        coating: None,
+        coating: a.coating.clone(),
         diffraction: a.diffraction,
     };
     let mut scene = Scene::load_with(&a.scene, &overrides)?;

@@ -18,11 +18,16 @@ const MAX_SPP: u32 = 1 << 20;
 /// `aperture` (m), `focal_length_mm`, `focus_distance` (m), `focus_shift`
 /// (mm), `aperture_shape`, `prescription` (a lens file for the camera);
 /// `threads` (None: every core); `focus_on` (autofocus: a shape's name, or
-/// a pixel `(column, row)` from the top left, as `--focus-on`). Scene
-/// warnings become `UserWarning`s.
+/// a pixel `(column, row)` from the top left, as `--focus-on`); `flare`
+/// ("off", "ghosts", "ghosts+glare", as `--flare`), `diffraction` ("off"
+/// or "on", or a bool, as `--diffraction`), `coating` (every surface of a
+/// real lens: "none", "MgF2", or a list of layers from the object side,
+/// each a dict `{"index": n, "thickness_nm": t}` or a tuple `(n, t)`, as
+/// the scene's `camera.coating`). Scene warnings become `UserWarning`s.
 #[pyfunction]
 #[pyo3(signature = (scene, width=None, height=None, spp=None, seed=1, camera=None, f_number=None, aperture=None,
-    focal_length_mm=None, focus_distance=None, focus_shift=None, aperture_shape=None, prescription=None, threads=None, focus_on=None))]
+    focal_length_mm=None, focus_distance=None, focus_shift=None, aperture_shape=None, prescription=None, threads=None, focus_on=None,
+    flare=None, diffraction=None, coating=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn render<'py>(
     py: Python<'py>,
@@ -41,6 +46,9 @@ pub fn render<'py>(
     prescription: Option<std::path::PathBuf>,
     threads: Option<usize>,
     focus_on: Option<Bound<'py, PyAny>>,
+    flare: Option<&str>,
+    diffraction: Option<Bound<'py, PyAny>>,
+    coating: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     use ::render::scene::{CameraKind, Overrides};
     let camera = match camera.map(str::to_ascii_lowercase).as_deref() {
@@ -68,6 +76,27 @@ pub fn render<'py>(
             }
         }),
     };
+    let flare = match flare {
+        Some(f) => Some(f.parse().map_err(|e: String| PyValueError::new_err(format!("flare={f:?}: {e}")))?),
+        None => None,
+    };
+    let diffraction = match diffraction {
+        None => None,
+        Some(v) => Some(match v.extract::<bool>() {
+            Ok(true) => ::render::scene::format::DiffractionSpec::On,
+            Ok(false) => ::render::scene::format::DiffractionSpec::Off,
+            Err(_) => {
+                let s = v
+                    .extract::<String>()
+                    .map_err(|_| PyValueError::new_err("diffraction: give \"off\", \"on\" or a bool"))?;
+                s.parse().map_err(|e: String| PyValueError::new_err(format!("diffraction={s:?}: {e}")))?
+            }
+        }),
+    };
+    let coating = match coating {
+        None => None,
+        Some(v) => Some(coating_spec(&v)?),
+    };
     if focus_on.is_some() && focus_distance.is_some() {
         return Err(PyValueError::new_err("give focus_distance or focus_on, not both"));
     }
@@ -85,9 +114,9 @@ pub fn render<'py>(
         aperture_shape,
         prescription,
         strict_glass_range: false,
-        flare: None,
-        coating: None,
-        diffraction: None,
+        flare,
+        coating,
+        diffraction,
     };
     let s = ::render::Scene::load_with(&scene, &overrides).map_err(|e| RenderError::new_err(e.to_string()))?;
     for w in &s.glass_warnings {
@@ -106,4 +135,44 @@ pub fn render<'py>(
     let a = Array3::from_shape_vec((image.height, image.width, 3), data)
         .map_err(|e| RenderError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
+}
+
+/// A coating given from Python: a name, or layers as dicts
+/// `{"index", "thickness_nm"}` or `(index, thickness_nm)` tuples; checked
+/// as the scene file's.
+fn coating_spec(v: &Bound<'_, PyAny>) -> PyResult<lens::model::CoatingSpec> {
+    use lens::model::{CoatingSpec, LayerSpec};
+    const HELP: &str =
+        "coating: give \"none\", \"MgF2\" or a list of layers, each {\"index\": n, \"thickness_nm\": t} or (n, t)";
+    let spec = if let Ok(name) = v.extract::<String>() {
+        CoatingSpec::Name(name)
+    } else {
+        let items: Vec<Bound<'_, PyAny>> = v.extract().map_err(|_| PyValueError::new_err(HELP))?;
+        let mut layers = Vec::with_capacity(items.len());
+        for (k, item) in items.iter().enumerate() {
+            let (index, thickness_nm) = if let Ok(t) = item.extract::<(f64, f64)>() {
+                t
+            } else if let Ok(d) = item.cast::<pyo3::types::PyDict>() {
+                if d.len() != 2 {
+                    return Err(PyValueError::new_err(format!(
+                        "coating layer {}: give exactly index and thickness_nm",
+                        k + 1
+                    )));
+                }
+                let get = |key: &str| -> PyResult<f64> {
+                    d.get_item(key)?
+                        .ok_or_else(|| PyValueError::new_err(format!("coating layer {}: missing {key}", k + 1)))?
+                        .extract::<f64>()
+                        .map_err(|_| PyValueError::new_err(format!("coating layer {}: {key} must be a number", k + 1)))
+                };
+                (get("index")?, get("thickness_nm")?)
+            } else {
+                return Err(PyValueError::new_err(HELP));
+            };
+            layers.push(LayerSpec { index, thickness_nm });
+        }
+        CoatingSpec::Layers(layers)
+    };
+    spec.coating().map_err(|e| PyValueError::new_err(format!("coating: {e}")))?;
+    Ok(spec)
 }

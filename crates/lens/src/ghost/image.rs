@@ -8,8 +8,9 @@
 //! (times its corners' mean weight) is spread evenly over the two film
 //! triangles its corners make. A cell whose corners do not all reach the
 //! film (one is blocked by a clear aperture) is split in four, down to
-//! [`MAX_SPLITS`] times; what is still mixed then lands on the triangle or
-//! segment of the corners that reached. Smooth (no noise) and energy-conserving: every watt of a cell
+//! [`MAX_SPLITS`] times; in a cell still mixed then, the light's edge is
+//! found on its sides by bisection and the part that reaches is deposited
+//! as a polygon (so a ghost's rim is smooth, not the cells' staircase). Smooth (no noise) and energy-conserving: every watt of a cell
 //! that reaches the film lands in some triangle (on the grid or, counted
 //! in `total`, off it).
 
@@ -350,6 +351,86 @@ pub fn rasterise_with(
     image
 }
 
+/// Bisection steps that place the edge of the light where it crosses a
+/// mixed cell's side (to 1/32 of the side).
+const EDGE_STEPS: u32 = 5;
+
+/// A cell still mixed at the finest split: the part of it whose rays reach
+/// the film, bounded by its corners that reached and by the points where
+/// the light's edge crosses its sides (each found by bisection along the
+/// side, the last point that reached), deposited as that polygon's fan of
+/// film triangles, each with its share of the polygon's area on the
+/// entrance. Where fewer than three points bound it, the power lands on
+/// the segment or point they make.
+#[allow(clippy::too_many_arguments)]
+fn edge_cell(
+    tracer: &Tracer,
+    entrance: &Entrance,
+    source: &Source,
+    film: &FilmGrid,
+    image: &mut GhostImage,
+    xy: [f64; 2],
+    side: f64,
+    c: [(Corner, f64); 4],
+) {
+    let at = [[xy[0], xy[1]], [xy[0] + side, xy[1]], [xy[0] + side, xy[1] + side], [xy[0], xy[1] + side]];
+    // (entrance point, film point, Fresnel weight, density)
+    let mut poly: Vec<([f64; 2], [f64; 2], f64, f64)> = Vec::with_capacity(8);
+    for k in 0..4 {
+        let (a, b) = (k, (k + 1) % 4);
+        if let Some((f, w)) = c[a].0 {
+            poly.push((at[a], f, w, c[a].1));
+        }
+        if c[a].0.is_some() == c[b].0.is_some() {
+            continue;
+        }
+        // from the end that reached toward the one that did not
+        let (mut lo, mut hi) = if c[a].0.is_some() { (at[a], at[b]) } else { (at[b], at[a]) };
+        let mut last = None;
+        for _ in 0..EDGE_STEPS {
+            let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+            match corner(tracer, entrance, source, mid[0], mid[1]) {
+                (Some((f, w)), d) => {
+                    lo = mid;
+                    last = Some((mid, f, w, d));
+                }
+                _ => hi = mid,
+            }
+        }
+        if let Some(v) = last {
+            poly.push(v);
+        }
+    }
+    let area_of = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        ((b[0] - a[0]) * (c[1] - a[1]) - (c[0] - a[0]) * (b[1] - a[1])).abs() / 2.0
+    };
+    let n = poly.len() as f64;
+    let density = poly.iter().map(|v| v.3).sum::<f64>() / n;
+    let weight = poly.iter().map(|v| v.2).sum::<f64>() / n;
+    if poly.len() >= 3 {
+        for k in 1..poly.len() - 1 {
+            let a = area_of(poly[0].0, poly[k].0, poly[k + 1].0);
+            image.deposit_triangle(film, a * density * weight, [poly[0].1, poly[k].1, poly[k + 1].1]);
+        }
+        return;
+    }
+    // a sliver the bisection did not open: the corners' share of the cell
+    let p: Vec<([f64; 2], f64)> = c.iter().filter_map(|k| k.0).collect();
+    let power = side * side * density * p.iter().map(|k| k.1).sum::<f64>() / 4.0;
+    match poly.as_slice() {
+        [a, b] => {
+            const ALONG: usize = 8;
+            for k in 0..ALONG {
+                let f = (k as f64 + 0.5) / ALONG as f64;
+                let at = [a.1[0] + f * (b.1[0] - a.1[0]), a.1[1] + f * (b.1[1] - a.1[1])];
+                image.deposit_point(film, power / ALONG as f64, at);
+            }
+        }
+        [a] => image.deposit_point(film, power, a.1),
+        _ => {}
+    }
+}
+
 /// One cell of the entrance grid, its lower corner at `xy` and its side
 /// `side` mm, its corners `c` (counter-clockwise from the lower left):
 /// deposited, or split where its corners disagree.
@@ -382,26 +463,7 @@ fn cell(
         return;
     }
     if depth >= MAX_SPLITS {
-        // what is still mixed lands on the corners that reached, spread
-        // over the triangle or the segment they make (a point alone)
-        let p: Vec<([f64; 2], f64)> = c.iter().filter_map(|k| k.0).collect();
-        let power = area * density * p.iter().map(|k| k.1).sum::<f64>() / 4.0;
-        match p.as_slice() {
-            [a, b, c] => image.deposit_triangle(film, power, [a.0, b.0, c.0]),
-            [a, b] => {
-                const ALONG: usize = 8;
-                for k in 0..ALONG {
-                    let f = (k as f64 + 0.5) / ALONG as f64;
-                    let at = [a.0[0] + f * (b.0[0] - a.0[0]), a.0[1] + f * (b.0[1] - a.0[1])];
-                    image.deposit_point(film, power / ALONG as f64, at);
-                }
-            }
-            _ => {
-                for (at, _) in &p {
-                    image.deposit_point(film, power / p.len() as f64, *at);
-                }
-            }
-        }
+        edge_cell(tracer, entrance, source, film, image, xy, side, c);
         return;
     }
     let h = side / 2.0;

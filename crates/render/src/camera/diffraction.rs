@@ -8,9 +8,10 @@
 //! stair-cased into spurious spikes), and its power spectrum |F|^2 is the
 //! point spread function: at wavelength λ and working f-number N (the
 //! exit pupil's distance to the film over its diameter), its samples lie
-//! λ N / 4 apart on the film (four to the rings' period). Each wavelength's PSF is spread onto the
-//! film's pixels (bilinearly, the film's x mirrored as the camera maps
-//! it), the wavelengths summed per channel by the sRGB share of their
+//! λ N / 4 apart on the film (four to the rings' period). Each wavelength's PSF is put on the
+//! film's pixels as the light that falls in each (the samples joined by a
+//! Catmull-Rom spline integrated over the pixel; the film's x mirrored as
+//! the camera maps it), the wavelengths summed per channel by the sRGB share of their
 //! colour, each wavelength's pattern normalised to 1: the film's light is
 //! moved, never made or lost (except what crosses the frame's edge; the
 //! kernel reaches no farther than the frame). The film is then convolved
@@ -19,8 +20,10 @@
 //! Approximated: one PSF for the whole frame, that of the on-axis pupil
 //! without the wavefront (the geometric image already holds the lens's
 //! aberrations, and diffraction adds the aperture's pattern to it); the
-//! pattern is cut off at `PUPIL / 4` samples (256 λ N on the film) from
-//! the centre.
+//! pattern is cut off at `PUPIL / 4` samples (128 λ N on the film) from
+//! the centre. The error against each field's wave PSF is measured in
+//! `tests/diffraction_error.rs` (docs/rendering.md, "Diffraction at the
+//! aperture").
 
 use super::aperture::Aperture;
 use super::real_lens::RealLensCamera;
@@ -100,11 +103,17 @@ pub fn kernel(cam: &RealLensCamera, colour: &ColourMode, w: usize, h: usize) -> 
     kernel_for(cam.aperture(), n, [sw / w as f64, sh / h as f64], [w, h], colour)
 }
 
-/// The working f-number of `cam`'s lens as focused: the exit pupil's
-/// distance to the film over its diameter (paraxial); the lens's f-number
-/// where it has no exit pupil.
+/// The working f-number of `cam`'s lens as focused: see
+/// [`working_f_number_of`].
 pub fn working_f_number(cam: &RealLensCamera) -> f64 {
-    let p = cam.prescription();
+    working_f_number_of(cam.prescription())
+}
+
+/// The working f-number of `p` with its film where its last thickness puts
+/// it: the paraxial exit pupil's distance to the film over its diameter;
+/// the lens's f-number where it has no exit pupil, 8 where it has no
+/// first-order properties.
+pub fn working_f_number_of(p: &lens::Prescription) -> f64 {
     match lens::paraxial::FirstOrder::of(p) {
         Ok(f) => match f.exit_pupil {
             Some(xp) if xp.diameter > 0.0 => {
@@ -159,59 +168,53 @@ pub fn kernel_for(
             .flat_map(|j| ((m / 2 - q)..(m / 2 + q)).map(move |i| (i, j)))
             .map(|(i, j)| spectrum[j * m + i])
             .sum();
-        if step >= 0.5 * pixel_mm[0].min(pixel_mm[1]) {
-            // samples no denser than the pixels: the pattern interpolated
-            // at each pixel's centre, as a density (per step^2)
-            let area = pixel_mm[0] * pixel_mm[1] / (step * step);
-            for (k, o) in one.iter_mut().enumerate() {
-                let (c, r) = ((k % nx) as f64 - rx as f64, (k / nx) as f64 - ry as f64);
-                // film x = -column, film y = row
-                let (x, y) = (-c * pixel_mm[0], r * pixel_mm[1]);
-                let (u, v) = (x / step + m as f64 / 2.0, y / step + m as f64 / 2.0);
-                let (u0, v0) = (u.floor(), v.floor());
-                let (fu, fv) = (u - u0, v - v0);
-                let lim = |t: f64| t >= (m / 2 - q) as f64 && t < (m / 2 + q) as f64;
-                let mut val = 0.0;
-                for (dv, wv) in [(0.0, 1.0 - fv), (1.0, fv)] {
-                    for (du, wu) in [(0.0, 1.0 - fu), (1.0, fu)] {
-                        let (uu, vv) = (u0 + du, v0 + dv);
-                        if lim(uu) && lim(vv) {
-                            val += spectrum[vv as usize * m + uu as usize] * wu * wv;
+        // the pattern between its samples is a Catmull-Rom spline (the
+        // samples are twice as dense as the pattern needs): each sample's
+        // basis function integrated over the pixels it covers, separably,
+        // so the kernel holds each pixel's light (not the pattern at its
+        // centre, nor smeared by a spread to the neighbours); film x =
+        // -column, film y = row
+        let samples: Vec<usize> = ((m / 2 - q)..(m / 2 + q)).collect();
+        let shares = |centre: fn(f64) -> f64, pixel: f64, r: usize, count: usize| -> Vec<(usize, Vec<f64>)> {
+            samples
+                .iter()
+                .map(|&i| {
+                    spline_shares(centre((i as f64 - m as f64 / 2.0) * step / pixel) + r as f64, step / pixel, count)
+                })
+                .collect()
+        };
+        let wx = shares(|u| -u, pixel_mm[0], rx, nx);
+        let wy = shares(|v| v, pixel_mm[1], ry, ny);
+        // each sample row spread across the columns, then the rows down
+        let rows: Vec<Vec<f64>> = samples
+            .par_iter()
+            .map(|&j| {
+                let mut row = vec![0.0; nx];
+                for (&i, (k0, w)) in samples.iter().zip(&wx) {
+                    let v = spectrum[j * m + i];
+                    if v > 0.0 {
+                        for (t, wk) in w.iter().enumerate() {
+                            row[k0 + t] += v * wk;
                         }
                     }
                 }
-                *o = val * area;
-            }
-        } else {
-            // many samples a pixel: each spread onto the pixels it lies
-            // between
-            for j in (m / 2 - q)..(m / 2 + q) {
-                for i in (m / 2 - q)..(m / 2 + q) {
-                    let v = spectrum[j * m + i];
-                    if v <= 0.0 {
-                        continue;
-                    }
-                    let x = (i as f64 - m as f64 / 2.0) * step;
-                    let y = (j as f64 - m as f64 / 2.0) * step;
-                    // film x mirrored (u = 0.5 - x / width), y down the rows
-                    let (c, r) = (-x / pixel_mm[0] + rx as f64, y / pixel_mm[1] + ry as f64);
-                    let (c0, r0) = (c.floor(), r.floor());
-                    let (fc, fr) = (c - c0, r - r0);
-                    for (dr, wr) in [(0.0, 1.0 - fr), (1.0, fr)] {
-                        for (dc, wc) in [(0.0, 1.0 - fc), (1.0, fc)] {
-                            let (cc, rr) = (c0 + dc, r0 + dr);
-                            if cc >= 0.0 && rr >= 0.0 && (cc as usize) < nx && (rr as usize) < ny {
-                                one[rr as usize * nx + cc as usize] += v * wr * wc;
-                            }
-                        }
-                    }
+                row
+            })
+            .collect();
+        for (row, (l0, w)) in rows.iter().zip(&wy) {
+            for (t, wl) in w.iter().enumerate() {
+                let out = &mut one[(l0 + t) * nx..(l0 + t + 1) * nx];
+                for (o, r) in out.iter_mut().zip(row) {
+                    *o += r * wl;
                 }
             }
         }
-        // normalised by the whole pattern: what falls past the frame is lost
+        // normalised by the whole pattern: what falls past the frame is
+        // lost; the spline's undershoot in the dark rings (a few 1e-6 of
+        // the peak) left out
         if total > 0.0 {
             for (o, v) in rgb.iter_mut().zip(one) {
-                *o += *weight * (v / total);
+                *o += *weight * (v.max(0.0) / total);
             }
         }
     }
@@ -221,6 +224,29 @@ pub fn kernel_for(
         *v /= weights.max(DVec3::splat(1e-300));
     }
     Kernel { nx, ny, cx: rx, cy: ry, rgb }
+}
+
+/// The shares of a Catmull-Rom basis function (support two samples each
+/// way) whose samples are `s` pixels apart, centred at `u` (pixel k spans
+/// k - 1/2 to k + 1/2), over pixels `0..n`: the first pixel and the shares
+/// from it (summing to 1 where none is cut off; the lobes slightly
+/// negative).
+fn spline_shares(u: f64, s: f64, n: usize) -> (usize, Vec<f64>) {
+    // the basis's integral from its left end to t samples from its centre
+    let cdf = |t: f64| {
+        let a = t.abs().min(2.0);
+        let inner = |x: f64| x * (1.0 + x * x * (-2.5 / 3.0 + 0.375 * x));
+        let outer = |x: f64| x * (2.0 + x * (-2.0 + x * (2.5 / 3.0 - 0.125 * x)));
+        let g = if a <= 1.0 { inner(a) } else { inner(1.0) + outer(a) - outer(1.0) };
+        0.5 + g.copysign(t)
+    };
+    let lo = (u - 2.0 * s - 0.5).floor().max(0.0) as usize;
+    let hi = ((u + 2.0 * s + 0.5).ceil().max(0.0) as usize).min(n);
+    if lo >= hi {
+        return (0, Vec::new());
+    }
+    let w = (lo..hi).map(|k| cdf((k as f64 + 0.5 - u) / s) - cdf((k as f64 - 0.5 - u) / s)).collect();
+    (lo, w)
 }
 
 /// `film` (w x h, row-major) convolved with `k` by FFT, per channel; light

@@ -55,6 +55,11 @@ pub const VISIBLE: f64 = 1e-3;
 /// Cells across the entrance grid of the first look and of the drawing.
 const LOOK_CELLS: usize = 16;
 const DRAW_CELLS: usize = 24;
+/// Times a looked-at cell at a clear aperture's edge is split: stopped
+/// down, the light a ghost takes is a few cells of the front element's
+/// square, and unsplit its power and peak would be guessed from the corners
+/// alone.
+const LOOK_SPLITS: u32 = 2;
 /// Times a drawn cell whose corners disagree (at a clear aperture's edge)
 /// is split.
 const DRAW_SPLITS: u32 = 4;
@@ -132,7 +137,7 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
             let b = &sources[si];
             let t = Tracer::ghost(&lenses[primary], i, j, lenses[primary].film_distance())?;
             let e = Entrance::of(&lenses[primary], &b.source);
-            let img = rasterise_with(&t, &b.source, &e, &look_grid, LOOK_CELLS, 0);
+            let img = rasterise_with(&t, &b.source, &e, &look_grid, LOOK_CELLS, LOOK_SPLITS);
             let area = look_grid.pixel_mm * look_grid.pixel_mm;
             let peak = img.power.iter().fold(0.0f64, |a, &v| a.max(v)) / area * b.scale * b.radiance[primary] / norm;
             (peak > 0.0 && peak >= floor).then(|| {
@@ -430,7 +435,7 @@ fn glare_veil(lenses: &[Prescription], colours: &[DVec3], sources: &[Bright], no
         let share = higher_order_share(lens_k);
         for b in sources {
             let e = Entrance::of(p, &b.source);
-            let entering = rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, 0).total;
+            let entering = rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, LOOK_SPLITS).total;
             out += colours[k] * (entering * b.scale * b.radiance[k] * share / (norm * frame_mm2));
         }
     }

@@ -151,12 +151,24 @@ impl Entrance {
                 })
             })
             .collect();
-        let lo = |f: fn(&(usize, usize)) -> usize| hits.iter().map(f).min();
-        let hi = |f: fn(&(usize, usize)) -> usize| hits.iter().map(f).max();
-        let (i0, i1, j0, j1) = (lo(|h| h.0)?, hi(|h| h.0)?, lo(|h| h.1)?, hi(|h| h.1)?);
-        let m = margin as f64;
-        let (x0, x1) = (at(i0) - m * side, at(i1) + m * side);
-        let (y0, y1) = (at(j0) - m * side, at(j1) + m * side);
+        self.around_cells(side, hits.iter().copied(), margin as f64)
+    }
+
+    /// The square of this entrance's plane that holds the grid points
+    /// `hits` (column, row on a grid of cells `side` mm wide from its lower
+    /// corner), widened by `margin` cells each side and no larger than this
+    /// one; `None` without points.
+    fn around_cells(&self, side: f64, hits: impl Iterator<Item = (usize, usize)>, margin: f64) -> Option<Entrance> {
+        let at = |i: usize| -self.half_mm + i as f64 * side;
+        let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
+        for (i, j) in hits {
+            (i0, i1, j0, j1) = (i0.min(i), i1.max(i), j0.min(j), j1.max(j));
+        }
+        if i0 == usize::MAX {
+            return None;
+        }
+        let (x0, x1) = (at(i0) - margin * side, at(i1) + margin * side);
+        let (y0, y1) = (at(j0) - margin * side, at(j1) + margin * side);
         let half = ((x1 - x0).max(y1 - y0) / 2.0).min(self.half_mm);
         Some(Entrance {
             z_mm: self.z_mm,
@@ -176,12 +188,17 @@ pub struct GhostImage {
     pub total: f64,
     /// The power-weighted mean of where it landed on the film, mm.
     pub centroid_mm: [f64; 2],
+    /// The part of the entrance plane whose grid corners' rays reached
+    /// the film, widened by one cell each side (where the light that
+    /// reached can have entered); `None` where no corner's ray reached or
+    /// the image was not rasterised from a grid.
+    pub entered: Option<Entrance>,
 }
 
 impl GhostImage {
     /// An empty image of `film`.
     pub fn empty(film: &FilmGrid) -> Self {
-        GhostImage { power: vec![0.0; film.nx * film.ny], total: 0.0, centroid_mm: [0.0; 2] }
+        GhostImage { power: vec![0.0; film.nx * film.ny], total: 0.0, centroid_mm: [0.0; 2], entered: None }
     }
 
     /// Adds `power` landing at the film point `at` (mm), for the
@@ -314,12 +331,13 @@ fn corner(tracer: &Tracer, entrance: &Entrance, source: &Source, x: f64, y: f64)
 /// traced in parallel; the rest runs in a fixed order, so the image is
 /// the same bits for any thread count.
 pub fn rasterise(tracer: &Tracer, source: &Source, entrance: &Entrance, film: &FilmGrid, cells: usize) -> GhostImage {
-    rasterise_with(tracer, source, entrance, film, cells, MAX_SPLITS)
+    rasterise_with(tracer, source, entrance, film, cells, MAX_SPLITS, EDGE_STEPS)
 }
 
 /// [`rasterise`] with cells whose corners disagree split at most `splits`
-/// times (0: such cells land on their corners that reached): fewer rays
-/// for a coarser edge, as a renderer may want.
+/// times and the light's edge placed on a still-mixed cell's sides by
+/// `edge_steps` bisections (0: the cell lands on its corners that reached):
+/// fewer rays for a coarser edge, as a renderer may want.
 pub fn rasterise_with(
     tracer: &Tracer,
     source: &Source,
@@ -327,6 +345,7 @@ pub fn rasterise_with(
     film: &FilmGrid,
     cells: usize,
     splits: u32,
+    edge_steps: u32,
 ) -> GhostImage {
     let n = cells.max(1);
     let side = 2.0 * entrance.half_mm / n as f64;
@@ -340,20 +359,23 @@ pub fn rasterise_with(
         })
         .collect();
     let mut image = GhostImage::empty(film);
+    let hits = (0..=n).flat_map(|j| (0..=n).map(move |i| (i, j))).filter(|&(i, j)| corners[j][i].0.is_some());
+    image.entered = entrance.around_cells(side, hits, 1.0);
     for j in 0..n {
         for i in 0..n {
             let c = [corners[j][i], corners[j][i + 1], corners[j + 1][i + 1], corners[j + 1][i]];
             let x = entrance.centre[0] + at(i);
             let y = entrance.centre[1] + at(j);
-            cell(tracer, entrance, source, film, &mut image, [x, y], side, c, MAX_SPLITS - splits.min(MAX_SPLITS));
+            let depth = MAX_SPLITS - splits.min(MAX_SPLITS);
+            cell(tracer, entrance, source, film, &mut image, [x, y], side, c, (depth, edge_steps));
         }
     }
     image
 }
 
 /// Bisection steps that place the edge of the light where it crosses a
-/// mixed cell's side (to 1/32 of the side).
-const EDGE_STEPS: u32 = 5;
+/// mixed cell's side (to 1/16 of the side).
+pub const EDGE_STEPS: u32 = 4;
 
 /// A cell still mixed at the finest split: the part of it whose rays reach
 /// the film, bounded by its corners that reached and by the points where
@@ -372,6 +394,7 @@ fn edge_cell(
     xy: [f64; 2],
     side: f64,
     c: [(Corner, f64); 4],
+    steps: u32,
 ) {
     let at = [[xy[0], xy[1]], [xy[0] + side, xy[1]], [xy[0] + side, xy[1] + side], [xy[0], xy[1] + side]];
     // (entrance point, film point, Fresnel weight, density)
@@ -387,7 +410,7 @@ fn edge_cell(
         // from the end that reached toward the one that did not
         let (mut lo, mut hi) = if c[a].0.is_some() { (at[a], at[b]) } else { (at[b], at[a]) };
         let mut last = None;
-        for _ in 0..EDGE_STEPS {
+        for _ in 0..steps {
             let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
             match corner(tracer, entrance, source, mid[0], mid[1]) {
                 (Some((f, w)), d) => {
@@ -444,7 +467,7 @@ fn cell(
     xy: [f64; 2],
     side: f64,
     c: [(Corner, f64); 4],
-    depth: u32,
+    (depth, edge_steps): (u32, u32),
 ) {
     let reached = c.iter().filter(|k| k.0.is_some()).count();
     if reached == 0 {
@@ -463,7 +486,7 @@ fn cell(
         return;
     }
     if depth >= MAX_SPLITS {
-        edge_cell(tracer, entrance, source, film, image, xy, side, c);
+        edge_cell(tracer, entrance, source, film, image, xy, side, c, edge_steps);
         return;
     }
     let h = side / 2.0;
@@ -476,6 +499,6 @@ fn cell(
         ([xy[0], xy[1] + h], [l, m, t, c[3]]),
     ];
     for (at, q) in quads {
-        cell(tracer, entrance, source, film, image, at, h, q, depth + 1);
+        cell(tracer, entrance, source, film, image, at, h, q, (depth + 1, edge_steps));
     }
 }

@@ -22,7 +22,7 @@ pub mod reference;
 
 use crate::model::Prescription;
 
-pub use image::{rasterise, rasterise_with, FilmGrid, GhostImage, Source};
+pub use image::{rasterise, rasterise_with, FilmGrid, GhostImage, Source, EDGE_STEPS};
 pub use paraxial::{ghost_list, GhostFocus};
 
 /// The ghosts of a lens: every pair `[i, j]` (0-based, i < j) of surfaces

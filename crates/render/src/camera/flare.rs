@@ -38,7 +38,7 @@ use crate::spectrum::{cie, SampledWavelengths};
 use crate::transport::Spectral;
 use glam::DVec3;
 use lens::ghost::image::Entrance;
-use lens::ghost::{ghost_pairs, rasterise_with, FilmGrid, Source};
+use lens::ghost::{ghost_pairs, rasterise_with, FilmGrid, Source, EDGE_STEPS};
 use lens::{Outcome, Prescription, Ray, Tracer};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -49,31 +49,37 @@ pub const MAX_SOURCES: usize = 16;
 /// 400-700 nm) in a colour render: enough for the colour of coatings and
 /// dispersion, which vary slowly with wavelength.
 pub const WAVELENGTHS: usize = 4;
-/// A ghost is drawn where its peak is at least this fraction of the
-/// image's mean luminance.
+/// The faintest ghosts are left out while their peaks sum to less than
+/// this fraction of the image's mean luminance (what they would have added
+/// to any pixel).
 pub const VISIBLE: f64 = 1e-3;
 /// Cells across the entrance grid of the first look and of the drawing.
 const LOOK_CELLS: usize = 16;
-const DRAW_CELLS: usize = 24;
-/// Times a looked-at cell at a clear aperture's edge is split: stopped
-/// down, the light a ghost takes is a few cells of the front element's
-/// square, and unsplit its power and peak would be guessed from the corners
-/// alone.
-const LOOK_SPLITS: u32 = 2;
+const DRAW_CELLS: usize = 16;
+/// Times a looked-at cell at a clear aperture's edge is split: none (the
+/// light's edge in it is still found by bisection, enough to judge a
+/// ghost's peak and extent; splitting twice doubled the flare's cost
+/// wide open and changed no picture).
+const LOOK_SPLITS: u32 = 0;
+/// Bisections that place the light's edge in a looked-at cell (to a
+/// sixteenth of its side: fewer made the peaks too coarse to judge which
+/// ghosts to leave out).
+const LOOK_EDGE_STEPS: u32 = 4;
 /// Times a drawn cell whose corners disagree (at a clear aperture's edge)
 /// is split.
-const DRAW_SPLITS: u32 = 4;
+const DRAW_SPLITS: u32 = 1;
 /// The most grid pixels across a ghost's drawing: a larger ghost goes to
 /// a grid of pixels 2, 4, 8 or 16 film pixels wide.
 const DRAW_PIXELS: f64 = 96.0;
 
 /// A ghost of a source worth drawing: the source, the ghost's surfaces,
-/// and its extent on the film (lower and upper corners, mm).
-type Looked = (usize, [usize; 2], [f64; 2], [f64; 2]);
+/// the part of the entrance plane its light takes, and its extent on the
+/// film (lower and upper corners, mm).
+type Looked = (usize, [usize; 2], Entrance, [f64; 2], [f64; 2]);
 
 /// A ghost to draw: [`Looked`] with the width of its grid's pixels, in
 /// film pixels (1, 2, 4, 8 or 16), before its extent.
-type Drawn = (usize, [usize; 2], usize, [f64; 2], [f64; 2]);
+type Drawn = (usize, [usize; 2], Entrance, usize, [f64; 2], [f64; 2]);
 
 /// One bright source, in the lens frame, with its light per wavelength.
 struct Bright {
@@ -106,8 +112,9 @@ pub(crate) fn render(scene: &Scene, cam: &RealLensCamera, plan: &FilmPlan, film:
 
 /// The ghosts (and, for `ghosts+glare`, the glare) of `scene` through
 /// `cam` on a `w` x `h` film (linear sRGB, row-major, the scene's colour
-/// mode): what [`render`] adds to the image. Ghosts whose peak is below
-/// `floor` (film units) at the primary wavelength are left out.
+/// mode): what [`render`] adds to the image. The faintest ghosts whose
+/// peaks at the primary wavelength sum to below `floor` (film units) are
+/// left out.
 pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floor: f64) -> Vec<DVec3> {
     let mut film = vec![DVec3::ZERO; w * h];
     let (nms, colours) = wavelengths(&scene.colour);
@@ -131,16 +138,19 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         ny: (sh / (8.0 * pix)).ceil() as usize,
     };
     let jobs: Vec<(usize, [usize; 2])> = (0..sources.len()).flat_map(|s| pairs.iter().map(move |&g| (s, g))).collect();
-    let looked: Vec<Option<Looked>> = jobs
+    let looked: Vec<Option<(f64, Looked)>> = jobs
         .par_iter()
         .map(|&(si, [i, j])| {
             let b = &sources[si];
             let t = Tracer::ghost(&lenses[primary], i, j, lenses[primary].film_distance())?;
             let e = Entrance::of(&lenses[primary], &b.source);
-            let img = rasterise_with(&t, &b.source, &e, &look_grid, LOOK_CELLS, LOOK_SPLITS);
+            let img = rasterise_with(&t, &b.source, &e, &look_grid, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS);
+            // the drawing's cells over the part of the front element's
+            // square the light took (stopped down, a few of its cells)
+            let e = img.entered?;
             let area = look_grid.pixel_mm * look_grid.pixel_mm;
             let peak = img.power.iter().fold(0.0f64, |a, &v| a.max(v)) / area * b.scale * b.radiance[primary] / norm;
-            (peak > 0.0 && peak >= floor).then(|| {
+            (peak > 0.0).then(|| {
                 // the ghost's extent on the film, mm, from its occupied cells
                 let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
                 for (k, v) in img.power.iter().enumerate() {
@@ -151,42 +161,52 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
                         hi = [hi[0].max(c[0] + half), hi[1].max(c[1] + half)];
                     }
                 }
-                (si, [i, j], lo, hi)
+                (peak, (si, [i, j], e, lo, hi))
             })
         })
         .collect();
+    // the faintest ghosts left out while their peaks together stay below
+    // `floor`: hundreds of ghosts each too faint to see can add up to a
+    // glow that is not
+    let mut looked: Vec<(f64, Looked)> = looked.into_iter().flatten().collect();
+    looked.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut dropped = 0.0;
+    let faint = looked.iter().take_while(|g| {
+        dropped += g.0;
+        dropped < floor
+    });
+    let skip = faint.count();
+    let looked: Vec<Looked> = looked.into_iter().skip(skip).map(|g| g.1).collect();
     // each kept ghost's grid: pixels 1, 2, 4, 8 or 16 film pixels wide, so
     // that it is at most DRAW_PIXELS across
     let kept: Vec<Drawn> = looked
         .into_iter()
-        .flatten()
-        .map(|(si, g, lo, hi)| {
+        .map(|(si, g, e, lo, hi)| {
             let across = (hi[0] - lo[0]).max(hi[1] - lo[1]) / pix;
             let mut level = 1usize;
             while across / level as f64 > DRAW_PIXELS && level < 16 {
                 level *= 2;
             }
-            (si, g, level, lo, hi)
+            (si, g, e, level, lo, hi)
         })
         .collect();
     // each level's grid of irradiance (per unit of norm), linear sRGB;
     // a ghost drawn on the part of its level's grid that holds it
     let mut levels: Vec<(usize, FilmGrid, Vec<DVec3>)> = Vec::new();
     for level in [1usize, 2, 4, 8, 16] {
-        if !kept.iter().any(|k| k.2 == level) {
+        if !kept.iter().any(|k| k.3 == level) {
             continue;
         }
         let lp = level as f64 * pix;
         let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: lp, nx: w.div_ceil(level), ny: (sh / lp).ceil() as usize };
-        let mine: Vec<_> = kept.iter().filter(|k| k.2 == level).collect();
+        let mine: Vec<_> = kept.iter().filter(|k| k.3 == level).collect();
         let mut sum = vec![DVec3::ZERO; grid.nx * grid.ny];
         for (k, lens_k) in lenses.iter().enumerate() {
             let images: Vec<(usize, usize, usize, Vec<f64>)> = mine
                 .par_iter()
-                .filter_map(|&&(si, [i, j], _, lo, hi)| {
+                .filter_map(|&&(si, [i, j], e, _, lo, hi)| {
                     let b = &sources[si];
                     let t = Tracer::ghost(lens_k, i, j, lens_k.film_distance())?;
-                    let e = Entrance::of(lens_k, &b.source);
                     // the part of the level's grid over the ghost, with a
                     // margin of half its extent and 16 of its pixels (the
                     // other wavelengths' ghosts differ, the look was coarse)
@@ -209,7 +229,7 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
                         nx,
                         ny,
                     };
-                    let img = rasterise_with(&t, &b.source, &e, &local, DRAW_CELLS, DRAW_SPLITS);
+                    let img = rasterise_with(&t, &b.source, &e, &local, DRAW_CELLS, DRAW_SPLITS, EDGE_STEPS);
                     let s = b.scale * b.radiance[k] / (norm * lp * lp);
                     Some((i0, j0, nx, img.power.into_iter().map(|v| v * s).collect()))
                 })
@@ -435,7 +455,8 @@ fn glare_veil(lenses: &[Prescription], colours: &[DVec3], sources: &[Bright], no
         let share = higher_order_share(lens_k);
         for b in sources {
             let e = Entrance::of(p, &b.source);
-            let entering = rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, LOOK_SPLITS).total;
+            let entering =
+                rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS).total;
             out += colours[k] * (entering * b.scale * b.radiance[k] * share / (norm * frame_mm2));
         }
     }

@@ -359,6 +359,7 @@ pub fn rasterise_with(
         })
         .collect();
     let mut image = GhostImage::empty(film);
+    let grid = Grid { tracer, entrance, source, film, edge_steps };
     let hits = (0..=n).flat_map(|j| (0..=n).map(move |i| (i, j))).filter(|&(i, j)| corners[j][i].0.is_some());
     image.entered = entrance.around_cells(side, hits, 1.0);
     for j in 0..n {
@@ -367,10 +368,22 @@ pub fn rasterise_with(
             let x = entrance.centre[0] + at(i);
             let y = entrance.centre[1] + at(j);
             let depth = MAX_SPLITS - splits.min(MAX_SPLITS);
-            cell(tracer, entrance, source, film, &mut image, [x, y], side, c, (depth, edge_steps));
+            cell(&grid, &mut image, [x, y], side, c, depth);
         }
     }
     image
+}
+
+/// What every cell of one rasterisation shares: the path traced, the
+/// entrance and source its rays start from, the film, and the bisection
+/// steps that place the light's edge in a mixed cell.
+#[derive(Clone, Copy)]
+struct Grid<'a> {
+    tracer: &'a Tracer,
+    entrance: &'a Entrance,
+    source: &'a Source,
+    film: &'a FilmGrid,
+    edge_steps: u32,
 }
 
 /// Bisection steps that place the edge of the light where it crosses a
@@ -384,18 +397,8 @@ pub const EDGE_STEPS: u32 = 4;
 /// film triangles, each with its share of the polygon's area on the
 /// entrance. Where fewer than three points bound it, the power lands on
 /// the segment or point they make.
-#[allow(clippy::too_many_arguments)]
-fn edge_cell(
-    tracer: &Tracer,
-    entrance: &Entrance,
-    source: &Source,
-    film: &FilmGrid,
-    image: &mut GhostImage,
-    xy: [f64; 2],
-    side: f64,
-    c: [(Corner, f64); 4],
-    steps: u32,
-) {
+fn edge_cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, f64); 4]) {
+    let Grid { tracer, entrance, source, film, edge_steps: steps } = *g;
     let at = [[xy[0], xy[1]], [xy[0] + side, xy[1]], [xy[0] + side, xy[1] + side], [xy[0], xy[1] + side]];
     // (entrance point, film point, Fresnel weight, density)
     let mut poly: Vec<([f64; 2], [f64; 2], f64, f64)> = Vec::with_capacity(8);
@@ -457,18 +460,8 @@ fn edge_cell(
 /// One cell of the entrance grid, its lower corner at `xy` and its side
 /// `side` mm, its corners `c` (counter-clockwise from the lower left):
 /// deposited, or split where its corners disagree.
-#[allow(clippy::too_many_arguments)]
-fn cell(
-    tracer: &Tracer,
-    entrance: &Entrance,
-    source: &Source,
-    film: &FilmGrid,
-    image: &mut GhostImage,
-    xy: [f64; 2],
-    side: f64,
-    c: [(Corner, f64); 4],
-    (depth, edge_steps): (u32, u32),
-) {
+fn cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, f64); 4], depth: u32) {
+    let Grid { tracer, entrance, source, film, .. } = *g;
     let reached = c.iter().filter(|k| k.0.is_some()).count();
     if reached == 0 {
         return;
@@ -486,7 +479,7 @@ fn cell(
         return;
     }
     if depth >= MAX_SPLITS {
-        edge_cell(tracer, entrance, source, film, image, xy, side, c, edge_steps);
+        edge_cell(g, image, xy, side, c);
         return;
     }
     let h = side / 2.0;
@@ -499,6 +492,6 @@ fn cell(
         ([xy[0], xy[1] + h], [l, m, t, c[3]]),
     ];
     for (at, q) in quads {
-        cell(tracer, entrance, source, film, image, at, h, q, (depth + 1, edge_steps));
+        cell(g, image, at, h, q, depth + 1);
     }
 }

@@ -10,9 +10,10 @@
 //! film (one is blocked by a clear aperture) is split in four, down to
 //! [`MAX_SPLITS`] times; in a cell still mixed then, the light's edge is
 //! found on its sides by bisection and the part that reaches is deposited
-//! as a polygon (so a ghost's rim is smooth, not the cells' staircase). Smooth (no noise) and energy-conserving: every watt of a cell
-//! that reaches the film lands in some triangle (on the grid or, counted
-//! in `total`, off it).
+//! as a polygon (so a ghost's rim is smooth, not the cells' staircase).
+//! Smooth (no noise) and energy-conserving: every watt of a cell that
+//! reaches the film lands in some triangle (on the grid or, counted in
+//! `total`, off it).
 
 use crate::model::Prescription;
 use crate::trace::{Outcome, Ray, Tracer};

@@ -72,14 +72,19 @@ const DRAW_SPLITS: u32 = 1;
 /// a grid of pixels 2, 4, 8 or 16 film pixels wide.
 const DRAW_PIXELS: f64 = 96.0;
 
-/// A ghost of a source worth drawing: the source, the ghost's surfaces,
-/// the part of the entrance plane its light takes, and its extent on the
-/// film (lower and upper corners, mm).
-type Looked = (usize, [usize; 2], Entrance, [f64; 2], [f64; 2]);
-
-/// A ghost to draw: [`Looked`] with the width of its grid's pixels, in
-/// film pixels (1, 2, 4, 8 or 16), before its extent.
-type Drawn = (usize, [usize; 2], Entrance, usize, [f64; 2], [f64; 2]);
+/// A ghost of a source worth drawing, as the first look found it.
+#[derive(Clone, Copy)]
+struct Looked {
+    /// The source (an index into the bright sources).
+    source: usize,
+    /// The ghost's surfaces (0-based, i < j).
+    pair: [usize; 2],
+    /// The part of the entrance plane its light took.
+    entrance: Entrance,
+    /// Its extent on the film: lower and upper corners, mm.
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
 
 /// One bright source, in the lens frame, with its light per wavelength.
 struct Bright {
@@ -161,7 +166,7 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
                         hi = [hi[0].max(c[0] + half), hi[1].max(c[1] + half)];
                     }
                 }
-                (peak, (si, [i, j], e, lo, hi))
+                (peak, Looked { source: si, pair: [i, j], entrance: e, lo, hi })
             })
         })
         .collect();
@@ -179,32 +184,32 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
     let looked: Vec<Looked> = looked.into_iter().skip(skip).map(|g| g.1).collect();
     // each kept ghost's grid: pixels 1, 2, 4, 8 or 16 film pixels wide, so
     // that it is at most DRAW_PIXELS across
-    let kept: Vec<Drawn> = looked
+    let kept: Vec<(usize, Looked)> = looked
         .into_iter()
-        .map(|(si, g, e, lo, hi)| {
-            let across = (hi[0] - lo[0]).max(hi[1] - lo[1]) / pix;
+        .map(|g| {
+            let across = (g.hi[0] - g.lo[0]).max(g.hi[1] - g.lo[1]) / pix;
             let mut level = 1usize;
             while across / level as f64 > DRAW_PIXELS && level < 16 {
                 level *= 2;
             }
-            (si, g, e, level, lo, hi)
+            (level, g)
         })
         .collect();
     // each level's grid of irradiance (per unit of norm), linear sRGB;
     // a ghost drawn on the part of its level's grid that holds it
     let mut levels: Vec<(usize, FilmGrid, Vec<DVec3>)> = Vec::new();
     for level in [1usize, 2, 4, 8, 16] {
-        if !kept.iter().any(|k| k.3 == level) {
+        if !kept.iter().any(|k| k.0 == level) {
             continue;
         }
         let lp = level as f64 * pix;
         let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: lp, nx: w.div_ceil(level), ny: (sh / lp).ceil() as usize };
-        let mine: Vec<_> = kept.iter().filter(|k| k.3 == level).collect();
+        let mine: Vec<&Looked> = kept.iter().filter(|k| k.0 == level).map(|k| &k.1).collect();
         let mut sum = vec![DVec3::ZERO; grid.nx * grid.ny];
         for (k, lens_k) in lenses.iter().enumerate() {
             let images: Vec<(usize, usize, usize, Vec<f64>)> = mine
                 .par_iter()
-                .filter_map(|&&(si, [i, j], e, _, lo, hi)| {
+                .filter_map(|&&Looked { source: si, pair: [i, j], entrance: e, lo, hi }| {
                     let b = &sources[si];
                     let t = Tracer::ghost(lens_k, i, j, lens_k.film_distance())?;
                     // the part of the level's grid over the ghost, with a

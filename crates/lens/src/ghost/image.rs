@@ -229,6 +229,9 @@ impl GhostImage {
     pub fn deposit_triangle(&mut self, film: &FilmGrid, power: f64, t: [[f64; 2]; 3]) {
         let centroid = [(t[0][0] + t[1][0] + t[2][0]) / 3.0, (t[0][1] + t[1][1] + t[2][1]) / 3.0];
         self.count(power, centroid);
+        if film.nx == 0 || film.ny == 0 {
+            return;
+        }
         let q: [(f64, f64); 3] = t.map(|p| film.to_pixels(p[0], p[1]));
         let area = polygon_area(&q);
         let (nx, ny) = (film.nx as f64, film.ny as f64);
@@ -494,5 +497,25 @@ fn cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, 
     ];
     for (at, q) in quads {
         cell(g, image, at, h, q, depth + 1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A grid of no pixels keeps only the sums (total, centroid).
+    #[test]
+    fn a_grid_of_no_pixels_keeps_the_sums() {
+        let none = FilmGrid { centre_mm: [0.0; 2], pixel_mm: 1.0, nx: 0, ny: 0 };
+        let mut image = GhostImage::empty(&none);
+        image.deposit_triangle(&none, 2.0, [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
+        image.deposit_point(&none, 1.0, [0.0, 0.0]);
+        assert_eq!(image.total, 3.0);
+        // the triangle counted at its centroid (1/3, 1/3) with weight 2
+        for c in image.centroid_mm {
+            assert!((c - 2.0 / 9.0).abs() < 1e-15, "{c}");
+        }
+        assert!(image.power.is_empty());
     }
 }

@@ -77,8 +77,8 @@ const DRAW_PIXELS: f64 = 96.0;
 struct Looked {
     /// The source (an index into the bright sources).
     source: usize,
-    /// The ghost's surfaces (0-based, i < j).
-    pair: [usize; 2],
+    /// The ghost: its index in the lens's list of surface pairs.
+    path: usize,
     /// The part of the entrance plane its light took.
     entrance: Entrance,
     /// Its extent on the film: lower and upper corners, mm.
@@ -142,14 +142,25 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         nx: w.div_ceil(8),
         ny: (sh / (8.0 * pix)).ceil() as usize,
     };
-    let jobs: Vec<(usize, [usize; 2])> = (0..sources.len()).flat_map(|s| pairs.iter().map(move |&g| (s, g))).collect();
+    // each ghost's path at each wavelength, built once (an asphere's start
+    // tables cost as much as tracing a few hundred rays)
+    let paths = |k: usize, wanted: &[bool]| -> Vec<Option<Tracer>> {
+        let p = &lenses[k];
+        pairs
+            .par_iter()
+            .zip(wanted)
+            .map(|(&[i, j], &want)| if want { Tracer::ghost(p, i, j, p.film_distance()) } else { None })
+            .collect()
+    };
+    let look_paths = paths(primary, &vec![true; pairs.len()]);
+    let jobs: Vec<(usize, usize)> = (0..sources.len()).flat_map(|s| (0..pairs.len()).map(move |g| (s, g))).collect();
     let looked: Vec<Option<(f64, Looked)>> = jobs
         .par_iter()
-        .map(|&(si, [i, j])| {
+        .map(|&(si, g)| {
             let b = &sources[si];
-            let t = Tracer::ghost(&lenses[primary], i, j, lenses[primary].film_distance())?;
+            let t = look_paths[g].as_ref()?;
             let e = Entrance::of(&lenses[primary], &b.source);
-            let img = rasterise_with(&t, &b.source, &e, &look_grid, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS);
+            let img = rasterise_with(t, &b.source, &e, &look_grid, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS);
             // the drawing's cells over the part of the front element's
             // square the light took (stopped down, a few of its cells)
             let e = img.entered?;
@@ -166,7 +177,7 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
                         hi = [hi[0].max(c[0] + half), hi[1].max(c[1] + half)];
                     }
                 }
-                (peak, Looked { source: si, pair: [i, j], entrance: e, lo, hi })
+                (peak, Looked { source: si, path: g, entrance: e, lo, hi })
             })
         })
         .collect();
@@ -195,6 +206,15 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
             (level, g)
         })
         .collect();
+    // the kept ghosts' paths at each wavelength
+    let mut wanted = vec![false; pairs.len()];
+    for (_, g) in &kept {
+        wanted[g.path] = true;
+    }
+    let mut look_paths = Some(look_paths);
+    let drawn_paths: Vec<Vec<Option<Tracer>>> = (0..lenses.len())
+        .map(|k| if k == primary { look_paths.take().unwrap_or_default() } else { paths(k, &wanted) })
+        .collect();
     // each level's grid of irradiance (per unit of norm), linear sRGB;
     // a ghost drawn on the part of its level's grid that holds it
     let mut levels: Vec<(usize, FilmGrid, Vec<DVec3>)> = Vec::new();
@@ -206,12 +226,12 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: lp, nx: w.div_ceil(level), ny: (sh / lp).ceil() as usize };
         let mine: Vec<&Looked> = kept.iter().filter(|k| k.0 == level).map(|k| &k.1).collect();
         let mut sum = vec![DVec3::ZERO; grid.nx * grid.ny];
-        for (k, lens_k) in lenses.iter().enumerate() {
+        for (k, paths_k) in drawn_paths.iter().enumerate() {
             let images: Vec<(usize, usize, usize, Vec<f64>)> = mine
                 .par_iter()
-                .filter_map(|&&Looked { source: si, pair: [i, j], entrance: e, lo, hi }| {
+                .filter_map(|&&Looked { source: si, path, entrance: e, lo, hi }| {
                     let b = &sources[si];
-                    let t = Tracer::ghost(lens_k, i, j, lens_k.film_distance())?;
+                    let t = paths_k.get(path)?.as_ref()?;
                     // the part of the level's grid over the ghost, with a
                     // margin of half its extent and 16 of its pixels (the
                     // other wavelengths' ghosts differ, the look was coarse)
@@ -234,7 +254,7 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
                         nx,
                         ny,
                     };
-                    let img = rasterise_with(&t, &b.source, &e, &local, DRAW_CELLS, DRAW_SPLITS, EDGE_STEPS);
+                    let img = rasterise_with(t, &b.source, &e, &local, DRAW_CELLS, DRAW_SPLITS, EDGE_STEPS);
                     let s = b.scale * b.radiance[k] / (norm * lp * lp);
                     Some((i0, j0, nx, img.power.into_iter().map(|v| v * s).collect()))
                 })

@@ -19,6 +19,8 @@ use crate::model::Prescription;
 use crate::trace::{Outcome, Ray, Tracer};
 use glam::DVec3;
 use rayon::prelude::*;
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 /// How many times a cell whose corners do not all reach the film is split
 /// in four (each level halves the width of the edge band it is unsure of).
@@ -340,8 +342,10 @@ pub fn rasterise(tracer: &Tracer, source: &Source, entrance: &Entrance, film: &F
 
 /// [`rasterise`] with cells whose corners disagree split at most `splits`
 /// times and the light's edge placed on a still-mixed cell's sides by
-/// `edge_steps` bisections (0: the cell lands on its corners that reached):
-/// fewer rays for a coarser edge, as a renderer may want.
+/// `edge_steps` bisections (0: the cell lands on its corners that reached;
+/// at most 30 are taken): fewer rays for a coarser edge, as a renderer may
+/// want. A point shared by neighbouring cells (a side's midpoint, the
+/// points bisecting a side) is traced once.
 pub fn rasterise_with(
     tracer: &Tracer,
     source: &Source,
@@ -363,7 +367,12 @@ pub fn rasterise_with(
         })
         .collect();
     let mut image = GhostImage::empty(film);
-    let grid = Grid { tracer, entrance, source, film, edge_steps };
+    let traced = RefCell::new(HashMap::new());
+    // bisection past 2^-30 of a cell is below the rounding of its points
+    let edge_steps = edge_steps.min(30);
+    let unit = side / (1u64 << (MAX_SPLITS + edge_steps)) as f64;
+    let origin = [entrance.centre[0] - entrance.half_mm, entrance.centre[1] - entrance.half_mm];
+    let grid = Grid { tracer, entrance, source, film, edge_steps, origin, unit, traced: &traced };
     let hits = (0..=n).flat_map(|j| (0..=n).map(move |i| (i, j))).filter(|&(i, j)| corners[j][i].0.is_some());
     image.entered = entrance.around_cells(side, hits, 1.0);
     for j in 0..n {
@@ -378,9 +387,15 @@ pub fn rasterise_with(
     image
 }
 
+/// Rays traced inside cells, by their point on a rasterisation's lattice
+/// (column, row): where each landed, and its power density.
+type Traced = HashMap<(i64, i64), (Corner, f64)>;
+
 /// What every cell of one rasterisation shares: the path traced, the
-/// entrance and source its rays start from, the film, and the bisection
-/// steps that place the light's edge in a mixed cell.
+/// entrance and source its rays start from, the film, the bisection steps
+/// that place the light's edge in a mixed cell, and the rays traced inside
+/// cells so far (a side's midpoint and the points bisecting it belong to
+/// both cells that share it: traced once, read by the second).
 #[derive(Clone, Copy)]
 struct Grid<'a> {
     tracer: &'a Tracer,
@@ -388,6 +403,28 @@ struct Grid<'a> {
     source: &'a Source,
     film: &'a FilmGrid,
     edge_steps: u32,
+    /// The entrance square's lower corner, mm.
+    origin: [f64; 2],
+    /// The lattice every traced point lies on: a cell's side over 2^(most
+    /// splits + bisection steps), mm.
+    unit: f64,
+    /// The rays traced inside cells, by their lattice point.
+    traced: &'a RefCell<Traced>,
+}
+
+impl Grid<'_> {
+    /// The ray through the entrance point (x, y), traced once per lattice
+    /// point.
+    fn corner(&self, x: f64, y: f64) -> (Corner, f64) {
+        let key =
+            (((x - self.origin[0]) / self.unit).round() as i64, ((y - self.origin[1]) / self.unit).round() as i64);
+        if let Some(c) = self.traced.borrow().get(&key) {
+            return *c;
+        }
+        let c = corner(self.tracer, self.entrance, self.source, x, y);
+        self.traced.borrow_mut().insert(key, c);
+        c
+    }
 }
 
 /// Bisection steps that place the edge of the light where it crosses a
@@ -402,7 +439,7 @@ pub const EDGE_STEPS: u32 = 4;
 /// entrance. Where fewer than three points bound it, the power lands on
 /// the segment or point they make.
 fn edge_cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, f64); 4]) {
-    let Grid { tracer, entrance, source, film, edge_steps: steps } = *g;
+    let (film, steps) = (g.film, g.edge_steps);
     let at = [[xy[0], xy[1]], [xy[0] + side, xy[1]], [xy[0] + side, xy[1] + side], [xy[0], xy[1] + side]];
     // (entrance point, film point, Fresnel weight, density)
     let mut poly: Vec<([f64; 2], [f64; 2], f64, f64)> = Vec::with_capacity(8);
@@ -419,7 +456,7 @@ fn edge_cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Cor
         let mut last = None;
         for _ in 0..steps {
             let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
-            match corner(tracer, entrance, source, mid[0], mid[1]) {
+            match g.corner(mid[0], mid[1]) {
                 (Some((f, w)), d) => {
                     lo = mid;
                     last = Some((mid, f, w, d));
@@ -465,7 +502,7 @@ fn edge_cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Cor
 /// `side` mm, its corners `c` (counter-clockwise from the lower left):
 /// deposited, or split where its corners disagree.
 fn cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, f64); 4], depth: u32) {
-    let Grid { tracer, entrance, source, film, .. } = *g;
+    let film = g.film;
     let reached = c.iter().filter(|k| k.0.is_some()).count();
     if reached == 0 {
         return;
@@ -487,7 +524,7 @@ fn cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, 
         return;
     }
     let h = side / 2.0;
-    let trace = |dx: f64, dy: f64| corner(tracer, entrance, source, xy[0] + dx, xy[1] + dy);
+    let trace = |dx: f64, dy: f64| g.corner(xy[0] + dx, xy[1] + dy);
     let (b, r, t, l, m) = (trace(h, 0.0), trace(side, h), trace(h, side), trace(0.0, h), trace(h, h));
     let quads = [
         ([xy[0], xy[1]], [c[0], b, m, l]),

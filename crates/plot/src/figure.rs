@@ -155,9 +155,13 @@ impl Figure {
             r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="{FONT_FAMILY}, sans-serif">"#
         );
         let _ = write!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
+        // a title too long for the figure (a lens's full name) is set
+        // smaller so that it fits, about 0.56 em a character
+        let chars = self.title.chars().count().max(1) as f64;
+        let size = (17.0f64).min((w - 16.0) / (0.56 * chars)).max(8.0);
         let _ = write!(
             s,
-            r#"<text x="{}" y="24" font-size="17" text-anchor="middle">{}</text>"#,
+            r#"<text x="{}" y="24" font-size="{size:.1}" text-anchor="middle">{}</text>"#,
             w / 2.0,
             esc(&self.title)
         );

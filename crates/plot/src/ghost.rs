@@ -39,7 +39,46 @@ pub fn ghost_chart(ghosts: &[GhostFocus], primary_mm: f64, reach_mm: f64, field_
         x_label: "image plane x (mm)".into(),
         y_label: "image plane y (mm)".into(),
         series,
+        // circles stay round
+        equal_aspect: true,
         ..Panel::default()
     };
     Figure { title: format!("Ghosts: {name}"), panels: vec![panel], columns: 1, panel_size: (640.0, 560.0) }.to_svg()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A ghost's blur circle is drawn round (equal scales on both axes),
+    /// even where the ghosts spread further one way than the other.
+    #[test]
+    fn circles_are_round() {
+        let ghost = |surfaces, height, radius| GhostFocus {
+            surfaces,
+            focus_z_mm: None,
+            image_height_mm: height,
+            radius_mm: radius,
+            intensity: Some(1e-3),
+            reflectance: 1e-3,
+        };
+        let ghosts = [ghost([1, 2], 40.0, 5.0), ghost([2, 3], -10.0, 20.0)];
+        let svg = ghost_chart(&ghosts, 10.0, 100.0, 5.0, "test");
+        let first = svg.split(r#"<polyline points=""#).nth(1).expect("a circle");
+        let points: Vec<(f64, f64)> = first
+            .split('"')
+            .next()
+            .unwrap()
+            .split_whitespace()
+            .map(|p| {
+                let (x, y) = p.split_once(',').unwrap();
+                (x.parse().unwrap(), y.parse().unwrap())
+            })
+            .collect();
+        let span = |f: fn(&(f64, f64)) -> f64| {
+            points.iter().map(f).fold(f64::NEG_INFINITY, f64::max) - points.iter().map(f).fold(f64::INFINITY, f64::min)
+        };
+        let (w, h) = (span(|p| p.0), span(|p| p.1));
+        assert!(w > 10.0 && (w - h).abs() < 0.01 * w, "{w} x {h} px");
+    }
 }

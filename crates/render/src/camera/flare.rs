@@ -136,6 +136,8 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
     let pairs = ghost_pairs(&lenses[primary]);
     // the first look: each (source, ghost) at the primary wavelength on a
     // coarse grid, its peak and extent
+    let footprints = footprints(&lenses[primary], &sources);
+    let stop = lenses[primary].stop_index();
     let look_grid = FilmGrid {
         centre_mm: [0.0; 2],
         pixel_mm: 8.0 * pix,
@@ -159,7 +161,12 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         .map(|&(si, g)| {
             let b = &sources[si];
             let t = look_paths[g].as_ref()?;
-            let e = Entrance::of(&lenses[primary], &b.source);
+            // light reflected past the stop passed it first: it entered
+            // where the primary's light to the stop does
+            let e = match footprints[si] {
+                Some(f) if pairs[g][1] >= stop => f,
+                _ => Entrance::of(&lenses[primary], &b.source),
+            };
             let img = rasterise_with(t, &b.source, &e, &look_grid, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS);
             // the drawing's cells over the part of the front element's
             // square the light took (stopped down, a few of its cells)
@@ -268,7 +275,7 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         levels.push((level, grid, sum));
     }
     let glare = if scene.film.flare == FlareSpec::GhostsAndGlare {
-        glare_veil(&lenses, &colours, &sources, norm, sw * sh)
+        glare_veil(&lenses, &colours, &sources, &footprints, norm, sw * sh)
     } else {
         DVec3::ZERO
     };
@@ -464,13 +471,44 @@ fn transmittance(p: &Prescription, r: f64) -> f64 {
     }
 }
 
+/// Each source's footprint: the part of its entrance square (a square
+/// of the plane [`Entrance::of`] gives) whose rays pass the front
+/// surfaces and the stop of `p`, from a grid of about eight points across
+/// the paraxial entrance pupil (at least 32 across the square), widened by
+/// one of its cells; `None` where no point's ray passes. Stopped down, the
+/// light of the primary image and of every ghost reflected at or past the
+/// stop entered there, a few of the square's look cells or fewer.
+fn footprints(p: &Prescription, sources: &[Bright]) -> Vec<Option<Entrance>> {
+    let stop = p.stop_index();
+    let to_stop = Tracer::forward_range(p, 0..stop + 1);
+    let pupil = lens::paraxial::FirstOrder::of(p).ok().map(|f| f.entrance_pupil.diameter.abs());
+    sources
+        .iter()
+        .map(|b| {
+            let e = Entrance::of(p, &b.source);
+            let cells = match pupil {
+                Some(d) if d > 0.0 => (16.0 * e.half_mm / d).ceil().clamp(32.0, 256.0) as usize,
+                _ => 32,
+            };
+            e.around_passing(&to_stop, &b.source, cells, 1)
+        })
+        .collect()
+}
+
 /// The veil of glare (linear sRGB, the same at every pixel): each source's
 /// light entering the lens (its primary image's power at the primary
 /// wavelength, scaled per wavelength by its radiance) times the share that
 /// leaves by four reflections or more (incoherent multiple reflection at
 /// normal incidence, less the primary and the two-reflection ghosts),
 /// over the frame's area.
-fn glare_veil(lenses: &[Prescription], colours: &[DVec3], sources: &[Bright], norm: f64, frame_mm2: f64) -> DVec3 {
+fn glare_veil(
+    lenses: &[Prescription],
+    colours: &[DVec3],
+    sources: &[Bright],
+    footprints: &[Option<Entrance>],
+    norm: f64,
+    frame_mm2: f64,
+) -> DVec3 {
     let primary = lenses.len() / 2;
     let p = &lenses[primary];
     let film = FilmGrid { centre_mm: [0.0; 2], pixel_mm: 1.0, nx: 1, ny: 1 };
@@ -478,8 +516,8 @@ fn glare_veil(lenses: &[Prescription], colours: &[DVec3], sources: &[Bright], no
     let mut out = DVec3::ZERO;
     for (k, lens_k) in lenses.iter().enumerate() {
         let share = higher_order_share(lens_k);
-        for b in sources {
-            let e = Entrance::of(p, &b.source);
+        for (b, f) in sources.iter().zip(footprints) {
+            let e = f.unwrap_or_else(|| Entrance::of(p, &b.source));
             let entering =
                 rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS).total;
             out += colours[k] * (entering * b.scale * b.radiance[k] * share / (norm * frame_mm2));

@@ -143,3 +143,48 @@ fn the_primary_image_loses_what_the_surfaces_reflect() {
     // its R^2 (1 - R)^2
     assert!(e_ghost > 0.0 && e_ghost < r * r * e_off, "{e_ghost} vs {}", r * r * e_off);
 }
+
+/// Stopped down, every ghost's light is found: the ghost layer of a lamp
+/// through the double Gauss at f/16 (its entrance pupil 3 mm across, a
+/// sliver of the front element) holds the light of all its ghosts on the
+/// frame, each rasterised on its own finely over where its light enters,
+/// within 2%.
+#[test]
+fn stopped_down_ghosts_are_all_found() {
+    let lamp = DVec3::new(0.35, 0.2, 5.0);
+    let json = format!(
+        r#"{{"camera": {{"type": "lens", "prescription": "../library/tronnier-double-gauss-50mm-f2-us2673491.json",
+              "f_number": 16, "focus_distance": 3.0, "sensor_mm": [36, 24],
+              "position": [0, 0, 0], "look_at": [0, 0, 1]}},
+            "film": {{"width": 192, "height": 128, "spp": 4, "wavelength_nm": 550, "flare": "ghosts"}},
+            "materials": {{"l": {{"type": "emissive", "radiance": [1000, 1000, 1000]}}}},
+            "shapes": [{{"type": "sphere", "center": [{}, {}, {}], "radius": 0.02, "material": "l"}}]}}"#,
+        lamp.x, lamp.y, lamp.z
+    );
+    let file: SceneFile = serde_json::from_str(&json).unwrap();
+    let scene = Scene::build(file, &data(), "<test>").unwrap();
+    let Camera::Real(cam) = &scene.camera else { panic!("a real lens") };
+    let (w, h) = (192usize, 128usize);
+    let got: f64 = ghost_layer(&scene, cam, w, h, 0.0).iter().map(|v| v.y).sum();
+    let at = render::transport::Spectral::new(render::spectrum::SampledWavelengths::single(550.0));
+    let radiance = scene.materials[scene.material_of[0]].emitted(&at, 1.0).0[0];
+    let p = cam.prescription().at_wavelength(550.0).unwrap();
+    let centre = cam.point_to_lens(lamp);
+    let rho: f64 = 20.0;
+    let r = (centre - DVec3::new(0.0, 0.0, -1.0)).length();
+    let intensity = radiance * std::f64::consts::TAU * (1.0 - (1.0 - (rho / r).powi(2)).sqrt()) * r * r;
+    let source = Source::Point(centre);
+    let [sw, _] = cam.sensor_mm();
+    let pix = sw / w as f64;
+    let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: pix, nx: w, ny: h };
+    let mut want = 0.0;
+    for [i, j] in lens::ghost::ghost_pairs(&p) {
+        let Some(t) = lens::Tracer::ghost(&p, i, j, p.film_distance()) else { continue };
+        let Some(near) = Entrance::of(&p, &source).around_passing(&t, &source, 192, 2) else { continue };
+        let img = lens::ghost::rasterise(&t, &source, &near, &grid, 48);
+        want += img.power.iter().sum::<f64>() * intensity / (cam.centre_weight() * pix * pix);
+    }
+    eprintln!("ghost layer {got:.5} vs each ghost found finely {want:.5}");
+    assert!(want > 0.0);
+    assert!((got - want).abs() < 0.02 * want, "{got} vs {want}");
+}

@@ -123,7 +123,7 @@ impl Entrance {
     /// The ray from the source through the entrance plane at (x, y) and
     /// the power it stands for per unit area of the plane (mm^-2 of the
     /// source's unit: irradiance or intensity).
-    pub(crate) fn ray_at(&self, source: &Source, x: f64, y: f64) -> Option<(Ray, f64)> {
+    pub fn ray_at(&self, source: &Source, x: f64, y: f64) -> Option<(Ray, f64)> {
         let at = DVec3::new(x, y, self.z_mm);
         match *source {
             Source::Direction(d) => Ray::new(at, d).map(|r| (r, d.z.abs())),

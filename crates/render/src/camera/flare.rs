@@ -13,9 +13,13 @@
 //!   checked against the brute-force reference in the lens crate), at
 //!   [`WAVELENGTHS`] wavelengths for colour (dispersion and coatings make
 //!   ghosts coloured). A first look at the primary wavelength on a coarse
-//!   grid drops the ghosts too dim to see (peak below [`VISIBLE`] of the
-//!   image's mean) and sizes each kept ghost's grid: a large ghost is
-//!   rasterised on a grid of coarser pixels, then added bilinearly.
+//!   grid drops the faintest ghosts (while their peaks together stay below
+//!   [`VISIBLE`] of the image's mean) and sizes each kept ghost's grid: a
+//!   large ghost is rasterised on a grid of coarser pixels, then added
+//!   bilinearly. Stopped down, the look covers only where light that
+//!   reaches the stop entered (the source's footprint for a ghost
+//!   reflected at or past the stop, the cells whose rays meet the stop's
+//!   opening for one reflected in front of it).
 //! - The primary image: multiplied by the lens's transmittance (the
 //!   product of 1 - R over its surfaces), per film radius and colour, the
 //!   mean over the pupil (docs/rendering.md gives its error).
@@ -53,8 +57,13 @@ pub const WAVELENGTHS: usize = 4;
 /// this fraction of the image's mean luminance (what they would have added
 /// to any pixel).
 pub const VISIBLE: f64 = 1e-3;
-/// Cells across the entrance grid of the first look and of the drawing.
-const LOOK_CELLS: usize = 16;
+/// Cells across the entrance grid of the first look (over the front
+/// element's square, or stopped down the part of it whose light reaches
+/// the stop) and of the drawing (over the part the look saw light take).
+/// Wide open, 16 cells stepped over the light of 116 of the night street's
+/// 1,961 lit ghosts (vignetted to slivers), 10% of the ghost light; 24
+/// leave 5% (docs/rendering.md).
+const LOOK_CELLS: usize = 24;
 const DRAW_CELLS: usize = 16;
 /// Times a looked-at cell at a clear aperture's edge is split: none (the
 /// light's edge in it is still found by bisection, enough to judge a
@@ -163,9 +172,15 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
             let t = look_paths[g].as_ref()?;
             // light reflected past the stop passed it first: it entered
             // where the primary's light to the stop does
+            // light reflected twice in front of the stop entered where the
+            // path takes it to the stop's opening
+            let square = Entrance::of(&lenses[primary], &b.source);
             let e = match footprints[si] {
                 Some(f) if pairs[g][1] >= stop => f,
-                _ => Entrance::of(&lenses[primary], &b.source),
+                Some(f) if f.half_mm < 0.25 * square.half_mm => {
+                    toward_stop(t, &lenses[primary], &b.source, &square).unwrap_or(square)
+                }
+                _ => square,
             };
             let img = rasterise_with(t, &b.source, &e, &look_grid, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS);
             // the drawing's cells over the part of the front element's
@@ -493,6 +508,68 @@ fn footprints(p: &Prescription, sources: &[Bright]) -> Vec<Option<Entrance>> {
             e.around_passing(&to_stop, &b.source, cells, 1)
         })
         .collect()
+}
+
+/// The part of `square` (a source's entrance square) whose rays can pass
+/// the stop of `p` along `path` (a ghost reflected twice in front of it):
+/// the cells of a [`LOOK_CELLS`] grid over it where the points its
+/// corners' rays meet the stop surface (those that get there, blocked by
+/// the stop or not), widened by half their spread, reach the stop's
+/// opening, and one cell more each side; `None` where no cell's do.
+/// Stopped down, that part is a few cells or less of the square, which
+/// the look's corners would step over.
+fn toward_stop(path: &Tracer, p: &Prescription, source: &Source, square: &Entrance) -> Option<Entrance> {
+    let (stop, sd) = (p.stop_index(), p.stop_semi_diameter());
+    let n = LOOK_CELLS;
+    let side = 2.0 * square.half_mm / n as f64;
+    let at = |i: usize, j: usize| {
+        [square.centre[0] - square.half_mm + i as f64 * side, square.centre[1] - square.half_mm + j as f64 * side]
+    };
+    let hits: Vec<Option<[f64; 2]>> = (0..(n + 1) * (n + 1))
+        .into_par_iter()
+        .map(|k| {
+            let [x, y] = at(k % (n + 1), k / (n + 1));
+            let (ray, _) = square.ray_at(source, x, y)?;
+            path.trace_at_surface(ray, stop).1.map(|v| [v.x, v.y])
+        })
+        .collect();
+    let (mut i0, mut i1, mut j0, mut j1) = (usize::MAX, 0, usize::MAX, 0);
+    for j in 0..n {
+        for i in 0..n {
+            let c: Vec<[f64; 2]> = [(i, j), (i + 1, j), (i + 1, j + 1), (i, j + 1)]
+                .iter()
+                .filter_map(|&(a, b)| hits[b * (n + 1) + a])
+                .collect();
+            if c.is_empty() {
+                continue;
+            }
+            let lo = c.iter().fold([f64::INFINITY; 2], |m, v| [m[0].min(v[0]), m[1].min(v[1])]);
+            let hi = c.iter().fold([f64::NEG_INFINITY; 2], |m, v| [m[0].max(v[0]), m[1].max(v[1])]);
+            let grow = 0.5 * (hi[0] - lo[0]).max(hi[1] - lo[1]);
+            // the box's nearest point to the stop's centre, on the axis
+            let near = |a: f64, b: f64| {
+                if a - grow > 0.0 {
+                    a - grow
+                } else if b + grow < 0.0 {
+                    b + grow
+                } else {
+                    0.0
+                }
+            };
+            if near(lo[0], hi[0]).hypot(near(lo[1], hi[1])) <= sd {
+                (i0, i1, j0, j1) = (i0.min(i), i1.max(i + 1), j0.min(j), j1.max(j + 1));
+            }
+        }
+    }
+    if i0 == usize::MAX {
+        return None;
+    }
+    let (lo, hi) = (at(i0.saturating_sub(1), j0.saturating_sub(1)), at((i1 + 1).min(n), (j1 + 1).min(n)));
+    Some(Entrance {
+        z_mm: square.z_mm,
+        centre: [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0],
+        half_mm: ((hi[0] - lo[0]).max(hi[1] - lo[1]) / 2.0).min(square.half_mm),
+    })
 }
 
 /// The veil of glare (linear sRGB, the same at every pixel): each source's

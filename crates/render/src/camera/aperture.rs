@@ -161,12 +161,13 @@ impl Aperture {
             Aperture::Circle => x * x + y * y <= 1.0,
             Aperture::Polygon { blades, rotation } => {
                 let n = blades as f64;
-                // inside every edge's half-plane: the apothem is cos(pi/n)
-                let apothem = (std::f64::consts::PI / n).cos();
-                (0..blades).all(|k| {
-                    let mid = rotation + std::f64::consts::TAU * (k as f64 + 0.5) / n;
-                    x * mid.cos() + y * mid.sin() <= apothem
-                })
+                let step = std::f64::consts::TAU / n;
+                // inside every edge's half-plane (the apothem is cos(pi /
+                // n)): the point lies farthest beyond the edge whose normal
+                // is nearest its direction, so that edge alone decides
+                let k = ((y.atan2(x) - rotation) / step - 0.5).round();
+                let (sin, cos) = (rotation + step * (k + 0.5)).sin_cos();
+                x * cos + y * sin <= (std::f64::consts::PI / n).cos()
             }
             Aperture::Mask(ref m) => m.at(x, y) > 0.0,
         }
@@ -287,4 +288,39 @@ fn load_mask(path: &std::path::Path) -> Result<Mask, ApertureError> {
         path: path.to_path_buf(),
         message: "aperture masks need the render crate's `png` feature".into(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A polygon holds a point exactly when the point lies inside every
+    /// edge's half-plane, the edge nearest its direction deciding.
+    #[test]
+    fn polygon_holds_what_every_edge_does() {
+        let mut seed = 11u64;
+        let mut next = || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for blades in 3..=12u32 {
+            for rotation in [0.0, 0.3, -2.0, 7.5] {
+                let a = Aperture::Polygon { blades, rotation };
+                let n = f64::from(blades);
+                let apothem = (std::f64::consts::PI / n).cos();
+                let mut both = [0usize; 2];
+                for _ in 0..4000 {
+                    let (x, y) = (2.4 * next() - 1.2, 2.4 * next() - 1.2);
+                    let every = (0..blades).all(|k| {
+                        let mid = rotation + std::f64::consts::TAU * (f64::from(k) + 0.5) / n;
+                        x * mid.cos() + y * mid.sin() <= apothem
+                    });
+                    assert_eq!(a.contains(x, y), every, "{blades} blades, rotation {rotation}, ({x}, {y})");
+                    both[usize::from(every)] += 1;
+                }
+                assert!(both[0] > 100 && both[1] > 100, "{both:?}");
+            }
+            assert!(Aperture::Polygon { blades, rotation: 0.4 }.contains(0.0, 0.0));
+        }
+    }
 }

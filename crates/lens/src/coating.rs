@@ -187,6 +187,104 @@ fn single_layer_real(n1: f64, layer: Layer, n2: f64, cos1: f64, nm: f64) -> Opti
     Some(0.5 * (r(s01, s12) + r(p01, p12)))
 }
 
+/// Bins of cos(incidence) over [0, 1] in a [`ReflectanceTable`].
+pub const TABLE_BINS: usize = 512;
+
+/// A bin is read by interpolation where that is within this of the exact
+/// reflectance at the bin's quarter points (relative, or absolute below
+/// 1e-4), else computed exactly.
+pub const TABLE_TOLERANCE: f64 = 1e-6;
+
+/// Every surface's reflectance, from either side, tabulated against the
+/// cosine of incidence at one wavelength: what a tracer that weights many
+/// rays by their Fresnel reflectances reads instead of evaluating each
+/// coating's thin-film formula at every step ([`crate::Tracer::with_reflectances`]).
+/// A Catmull-Rom spline through [`TABLE_BINS`] + 1 samples where it holds
+/// to [`TABLE_TOLERANCE`] at each bin's quarter points; the exact formula
+/// in the bins where it does not (the kink at the critical angle, grazing
+/// light).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReflectanceTable {
+    /// The wavelength, nm.
+    pub wavelength_nm: f64,
+    /// Per surface (0-based) and side (0: light travelling +z, 1: -z): the
+    /// samples at cos = (k - 1) / TABLE_BINS for k = 0 to TABLE_BINS + 2
+    /// (the two ends extrapolated), and whether each bin is left to the
+    /// formula.
+    rows: Vec<[(Vec<f64>, Vec<bool>); 2]>,
+    /// What it was made from.
+    coatings: Vec<Coating>,
+    media: Vec<f64>,
+}
+
+/// The Catmull-Rom spline through `p` (four samples) at `f` (0 to 1)
+/// between the middle two.
+#[inline(always)]
+fn catmull_rom(p: &[f64], f: f64) -> f64 {
+    let (p0, p1, p2, p3) = (p[0], p[1], p[2], p[3]);
+    let c1 = p2 - p0;
+    let c2 = 2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3;
+    let c3 = 3.0 * (p1 - p2) + p3 - p0;
+    p1 + 0.5 * f * (c1 + f * (c2 + f * c3))
+}
+
+impl ReflectanceTable {
+    /// The table of `coatings` (per surface) between the media `media`
+    /// (the index before surface 0, then after each surface) at `nm`.
+    pub fn new(coatings: &[Coating], media: &[f64], nm: f64) -> ReflectanceTable {
+        let n = TABLE_BINS;
+        let rows = coatings
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let (a, b) = (media.get(k).copied().unwrap_or(1.0), media.get(k + 1).copied().unwrap_or(1.0));
+                [(a, b, false), (b, a, true)].map(|(n1, n2, back)| {
+                    let at = |cos: f64| c.reflectance(n1, n2, cos, nm, back);
+                    let mut v = vec![0.0; n + 3];
+                    for (j, x) in v.iter_mut().enumerate().take(n + 2).skip(1) {
+                        *x = at((j - 1) as f64 / n as f64);
+                    }
+                    v[0] = 2.0 * v[1] - v[2];
+                    v[n + 2] = 3.0 * (v[n + 1] - v[n]) + v[n - 1];
+                    // a bin where the spline misses the formula
+                    let bad: Vec<bool> = (0..n)
+                        .map(|i| {
+                            [0.25, 0.5, 0.75].iter().any(|&f| {
+                                let want = at((i as f64 + f) / n as f64);
+                                let got = catmull_rom(&v[i..i + 4], f);
+                                let close = (got - want).abs() <= TABLE_TOLERANCE * want.abs().max(1e-4);
+                                !close
+                            })
+                        })
+                        .collect();
+                    (v, bad)
+                })
+            })
+            .collect();
+        ReflectanceTable { wavelength_nm: nm, rows, coatings: coatings.to_vec(), media: media.to_vec() }
+    }
+
+    /// Whether it was made from these coatings and media.
+    pub fn covers(&self, coatings: &[Coating], media: &[f64]) -> bool {
+        self.coatings == coatings && self.media == media
+    }
+
+    /// The reflectance of surface `surface` for light from its +z side
+    /// (`backward` false: from the medium before it) at the cosine `cos1`;
+    /// `None` where the table leaves it to the formula (or has no such
+    /// surface).
+    #[inline]
+    pub fn get(&self, surface: usize, backward: bool, cos1: f64) -> Option<f64> {
+        let (v, bad) = &self.rows.get(surface)?[usize::from(backward)];
+        let t = cos1.clamp(0.0, 1.0) * TABLE_BINS as f64;
+        let i = (t as usize).min(TABLE_BINS - 1);
+        if bad[i] {
+            return None;
+        }
+        Some(catmull_rom(&v[i..i + 4], t - i as f64))
+    }
+}
+
 /// The Fresnel reflectance of a bare surface for unpolarised light: the
 /// mean of the s and p reflectances, light from medium `n1` with the
 /// cosine `cos1` of its angle of incidence into medium `n2` (1 beyond the
@@ -199,6 +297,45 @@ pub fn fresnel(n1: f64, n2: f64, cos1: f64) -> f64 {
 mod tests {
     use super::*;
     use approx::assert_relative_eq;
+
+    /// The table holds every surface's reflectance from both sides within
+    /// its tolerance, through the critical angle and at grazing light.
+    #[test]
+    fn table_matches_the_formula() {
+        let coatings = [
+            Coating::MgF2 { design_nm: 550.0 },
+            Coating::None,
+            Coating::Layers(vec![
+                Layer { index: 1.38, thickness_nm: 99.6 },
+                Layer { index: 2.1, thickness_nm: 130.9 },
+                Layer { index: 1.62, thickness_nm: 84.9 },
+            ]),
+        ];
+        let media = [1.0, 1.5168, 1.7552, 1.0];
+        let nm = 486.1;
+        let table = ReflectanceTable::new(&coatings, &media, nm);
+        let mut formula = 0;
+        for (k, c) in coatings.iter().enumerate() {
+            for back in [false, true] {
+                let (n1, n2) = if back { (media[k + 1], media[k]) } else { (media[k], media[k + 1]) };
+                for i in 0..=20_000 {
+                    let cos = i as f64 / 20_000.0;
+                    let want = c.reflectance(n1, n2, cos, nm, back);
+                    match table.get(k, back, cos) {
+                        Some(got) => assert!(
+                            (got - want).abs() <= 2.0 * TABLE_TOLERANCE * want.max(1e-4),
+                            "surface {k} back {back} cos {cos}: {got} vs {want}"
+                        ),
+                        None => formula += 1,
+                    }
+                }
+            }
+        }
+        // the bins left to the formula are few (the kinks at the critical
+        // angles, grazing light)
+        assert!(formula > 0 && formula < 6 * 20_000 / 20, "{formula}");
+        assert_eq!(table.get(3, false, 0.5), None);
+    }
 
     /// At normal incidence a bare surface reflects ((n1 - n2) / (n1 +
     /// n2))^2 (4.2% for N-BK7 in air), from either side.

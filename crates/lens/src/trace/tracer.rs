@@ -7,7 +7,7 @@
 use super::asphere::AsphereLanes;
 use super::ray::{Outcome, Ray};
 use super::step::*;
-use crate::coating::Coating;
+use crate::coating::{Coating, ReflectanceTable};
 use crate::glass::kernel::Kernel;
 use crate::glass::Glass;
 use crate::model::Prescription;
@@ -50,6 +50,9 @@ pub struct Tracer {
     /// The index before surface 0, then after each surface, at that
     /// wavelength (a reflection's other side).
     pub(crate) media: Arc<[f64]>,
+    /// The coatings' reflectances tabulated at that wavelength, read by
+    /// [`Self::trace_fresnel`] where given ([`Self::with_reflectances`]).
+    pub(crate) reflectances: Option<Arc<ReflectanceTable>>,
 }
 
 /// Each step's asphere in the one-ray path's numbers ([`Tracer::aspheres`]),
@@ -278,13 +281,34 @@ impl Tracer {
             let norm = along.length();
             if (s.reflect || n1 != n2) && norm > 0.0 {
                 let cos1 = (before.dot(along) / norm).abs().min(1.0);
-                let r = self.coatings[s.surface].reflectance(n1, n2, cos1, nm, backward);
+                let tabled = self.reflectances.as_ref().and_then(|t| t.get(s.surface, backward, cos1));
+                let r = tabled.unwrap_or_else(|| self.coatings[s.surface].reflectance(n1, n2, cos1, nm, backward));
                 weight *= if s.reflect { r } else { 1.0 - r };
             }
             before = after;
         };
         let outcome = self.walk_fastest(ray, visit);
         (outcome, weight)
+    }
+
+    /// The coatings' reflectances of this tracer's lens, tabulated at its
+    /// wavelength, for [`Self::with_reflectances`]: build once and share
+    /// among the tracers of one lens and wavelength.
+    pub fn reflectance_table(&self) -> ReflectanceTable {
+        ReflectanceTable::new(&self.coatings, &self.media, self.wavelength_nm)
+    }
+
+    /// This tracer with [`Self::trace_fresnel`] reading the reflectances
+    /// from `table` (interpolated, within [`crate::coating::TABLE_TOLERANCE`]
+    /// of the formula) instead of evaluating each coating at every step:
+    /// for many rays through one lens and wavelength (a ghost's grid of
+    /// rays). A table of another wavelength or lens (other media) is not
+    /// taken: the tracer is returned as it was.
+    pub fn with_reflectances(mut self, table: Arc<ReflectanceTable>) -> Self {
+        if table.wavelength_nm == self.wavelength_nm && table.covers(&self.coatings, &self.media) {
+            self.reflectances = Some(table);
+        }
+        self
     }
 
     /// A tracer of `steps` through the glasses of `p`.
@@ -294,7 +318,16 @@ impl Tracer {
         let aspheres = one_ray_aspheres(&steps);
         let coatings = p.coatings().into();
         let media = std::iter::once(p.index_before(0)).chain(p.surfaces().iter().map(|s| s.ior)).collect();
-        Tracer { steps, glasses, kernels, aspheres, coatings, wavelength_nm: p.wavelength_nm(), media }
+        Tracer {
+            steps,
+            glasses,
+            kernels,
+            aspheres,
+            coatings,
+            wavelength_nm: p.wavelength_nm(),
+            media,
+            reflectances: None,
+        }
     }
 
     /// From image space (the film) back to object space. The ray starts in

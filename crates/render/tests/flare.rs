@@ -34,6 +34,30 @@ fn lamp_scene(lamp: DVec3, flare: &str) -> Scene {
     Scene::build(file, &data(), "<test>").unwrap()
 }
 
+/// The lamp of 2 cm radius at `lamp` (m) as the reference sees it: the
+/// lens at 550 nm, the lamp a point at its centre (the lens frame) of
+/// intensity L times the solid angle its disc fills times the distance
+/// squared (L its radiance at 550 nm, the RGB white of 1000 as a
+/// spectrum), the film's pixel (mm) and a grid of `w` x `h` of them.
+fn lamp_as_point(
+    scene: &Scene,
+    cam: &render::camera::real_lens::RealLensCamera,
+    lamp: DVec3,
+    w: usize,
+    h: usize,
+) -> (lens::Prescription, Source, f64, f64, FilmGrid) {
+    let at = render::transport::Spectral::new(render::spectrum::SampledWavelengths::single(550.0));
+    let radiance = scene.materials[scene.material_of[0]].emitted(&at, 1.0).0[0];
+    let p = cam.prescription().at_wavelength(550.0).unwrap();
+    let centre = cam.point_to_lens(lamp);
+    let rho: f64 = 20.0;
+    let r = (centre - DVec3::new(0.0, 0.0, -1.0)).length();
+    let intensity = radiance * std::f64::consts::TAU * (1.0 - (1.0 - (rho / r).powi(2)).sqrt()) * r * r;
+    let [sw, _] = cam.sensor_mm();
+    let pix = sw / w as f64;
+    (p, Source::Point(centre), intensity, pix, FilmGrid { centre_mm: [0.0; 2], pixel_mm: pix, nx: w, ny: h })
+}
+
 /// The rendered ghost of the singlet (its one ghost, surfaces 1 and 2)
 /// against the brute-force reference traced from the same lamp: the
 /// same energy within 2%, the same centroid within a pixel, the same
@@ -46,20 +70,7 @@ fn rendered_ghost_matches_the_brute_force_reference() {
     let (w, h) = (160usize, 120usize);
     let layer = ghost_layer(&scene, cam, w, h, 0.0);
     let got: Vec<f64> = layer.iter().map(|v| v.y).collect();
-    // the reference: the lamp as a point of intensity L pi rho^2 (mm^2)
-    // at its centre, in the lens frame, L its radiance at 550 nm (the RGB
-    // white of 1000 as a spectrum)
-    let at = render::transport::Spectral::new(render::spectrum::SampledWavelengths::single(550.0));
-    let radiance = scene.materials[scene.material_of[0]].emitted(&at, 1.0).0[0];
-    let p = cam.prescription().at_wavelength(550.0).unwrap();
-    let centre = cam.point_to_lens(lamp);
-    let rho: f64 = 20.0;
-    let r = (centre - DVec3::new(0.0, 0.0, -1.0)).length();
-    let intensity = radiance * std::f64::consts::TAU * (1.0 - (1.0 - (rho / r).powi(2)).sqrt()) * r * r;
-    let source = Source::Point(centre);
-    let [sw, _] = cam.sensor_mm();
-    let pix = sw / w as f64;
-    let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: pix, nx: w, ny: h };
+    let (p, source, intensity, pix, grid) = lamp_as_point(&scene, cam, lamp, w, h);
     let tracer = lens::Tracer::ghost(&p, 0, 1, p.film_distance()).unwrap();
     let near = Entrance::of(&p, &source).around_passing(&tracer, &source, 128, 8).unwrap();
     const RUNS: usize = 8;
@@ -166,17 +177,7 @@ fn stopped_down_ghosts_are_all_found() {
     let Camera::Real(cam) = &scene.camera else { panic!("a real lens") };
     let (w, h) = (192usize, 128usize);
     let got: f64 = ghost_layer(&scene, cam, w, h, 0.0).iter().map(|v| v.y).sum();
-    let at = render::transport::Spectral::new(render::spectrum::SampledWavelengths::single(550.0));
-    let radiance = scene.materials[scene.material_of[0]].emitted(&at, 1.0).0[0];
-    let p = cam.prescription().at_wavelength(550.0).unwrap();
-    let centre = cam.point_to_lens(lamp);
-    let rho: f64 = 20.0;
-    let r = (centre - DVec3::new(0.0, 0.0, -1.0)).length();
-    let intensity = radiance * std::f64::consts::TAU * (1.0 - (1.0 - (rho / r).powi(2)).sqrt()) * r * r;
-    let source = Source::Point(centre);
-    let [sw, _] = cam.sensor_mm();
-    let pix = sw / w as f64;
-    let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: pix, nx: w, ny: h };
+    let (p, source, intensity, pix, grid) = lamp_as_point(&scene, cam, lamp, w, h);
     let mut want = 0.0;
     for [i, j] in lens::ghost::ghost_pairs(&p) {
         let Some(t) = lens::Tracer::ghost(&p, i, j, p.film_distance()) else { continue };

@@ -527,9 +527,13 @@ fn footprints(p: &Prescription, sources: &[Bright]) -> Vec<Option<Entrance>> {
 /// the stop or not), widened by half their spread, reach the stop's
 /// opening, and one cell more each side; `None` where no cell's do.
 /// Stopped down, that part is a few cells or less of the square, which
-/// the look's corners would step over.
+/// the look's corners would step over. `None` too where the stop is
+/// decentred or tilted (its opening is then not about the axis).
 fn toward_stop(path: &Tracer, p: &Prescription, source: &Source, square: &Entrance) -> Option<Entrance> {
     let (stop, sd) = (p.stop_index(), p.stop_semi_diameter());
+    if p.placements().get(stop).is_some_and(|m| m.is_some()) {
+        return None;
+    }
     let n = LOOK_CELLS;
     let side = 2.0 * square.half_mm / n as f64;
     let at = |i: usize, j: usize| {

@@ -155,9 +155,9 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         ny: (sh / (8.0 * pix)).ceil() as usize,
     };
     // each ghost's path at each wavelength, built once (an asphere's start
-    // tables cost as much as tracing a few hundred rays)
-    // (with the coatings' reflectances tabulated: the thin-film formula at
-    // every step was a third of a ghost ray's cost)
+    // tables cost as much as tracing a few hundred rays), reading the
+    // coatings' reflectances from a table (the thin-film formula at every
+    // step was a third of a ghost ray's cost)
     let paths = |k: usize, wanted: &[bool]| -> Vec<Option<Tracer>> {
         let p = &lenses[k];
         let table = Arc::new(Tracer::forward(p).reflectance_table());
@@ -180,9 +180,9 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         .map(|&(si, g)| {
             let b = &sources[si];
             let t = look_paths[g].as_ref()?;
-            // light reflected past the stop passed it first: it entered
-            // where the primary's light to the stop does
-            // light reflected twice in front of the stop entered where the
+            // stopped down, where the light can have entered: light
+            // reflected at or past the stop passed it first (the source's
+            // footprint); light reflected twice in front of it, where the
             // path takes it to the stop's opening
             let square = Entrance::of(&lenses[primary], &b.source);
             let e = match footprints[si] {
@@ -604,13 +604,20 @@ fn glare_veil(
     let p = &lenses[primary];
     let film = FilmGrid { centre_mm: [0.0; 2], pixel_mm: 1.0, nx: 1, ny: 1 };
     let forward = Tracer::forward(p);
+    // each source's light entering, at the primary wavelength (the same for
+    // every wavelength's share)
+    let entering: Vec<f64> = sources
+        .iter()
+        .zip(footprints)
+        .map(|(b, f)| {
+            let e = f.unwrap_or_else(|| Entrance::of(p, &b.source));
+            rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS).total
+        })
+        .collect();
     let mut out = DVec3::ZERO;
     for (k, lens_k) in lenses.iter().enumerate() {
         let share = higher_order_share(lens_k);
-        for (b, f) in sources.iter().zip(footprints) {
-            let e = f.unwrap_or_else(|| Entrance::of(p, &b.source));
-            let entering =
-                rasterise_with(&forward, &b.source, &e, &film, LOOK_CELLS, LOOK_SPLITS, LOOK_EDGE_STEPS).total;
+        for (b, entering) in sources.iter().zip(&entering) {
             out += colours[k] * (entering * b.scale * b.radiance[k] * share / (norm * frame_mm2));
         }
     }

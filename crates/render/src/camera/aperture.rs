@@ -159,15 +159,14 @@ impl Aperture {
     pub fn contains(&self, x: f64, y: f64) -> bool {
         match *self {
             Aperture::Circle => x * x + y * y <= 1.0,
-            Aperture::Polygon { blades, rotation } => {
-                let n = blades as f64;
-                let step = std::f64::consts::TAU / n;
-                // inside every edge's half-plane (the apothem is cos(pi /
-                // n)): the point lies farthest beyond the edge whose normal
-                // is nearest its direction, so that edge alone decides
+            Aperture::Polygon { rotation, .. } => {
+                let step = self.period();
+                // inside every edge's half-plane (at the apothem): the point
+                // lies farthest beyond the edge whose normal is nearest its
+                // direction, so that edge alone decides
                 let k = ((y.atan2(x) - rotation) / step - 0.5).round();
                 let (sin, cos) = (rotation + step * (k + 0.5)).sin_cos();
-                x * cos + y * sin <= (std::f64::consts::PI / n).cos()
+                x * cos + y * sin <= self.inradius()
             }
             Aperture::Mask(ref m) => m.at(x, y) > 0.0,
         }

@@ -9,13 +9,15 @@
 //! - [`image`]: a ghost's (or the primary's) irradiance on a film grid for
 //!   a point source, from a grid of rays traced through the ghost's path
 //!   ([`crate::Tracer::ghost`], Fresnel-weighted, every clear aperture
-//!   clipping) and rasterised triangle by triangle;
+//!   clipping) and rasterised triangle by triangle (each pixel's share of
+//!   a triangle from `coverage`);
 //! - [`reference`]: the brute-force check: rays that reflect or refract at
 //!   every surface they meet, at random by their Fresnel probability.
 //!
 //! Surfaces are numbered from 0 in the code and from 1 in what users read
 //! (the JSON's `"surfaces": [i, j]`).
 
+mod coverage;
 pub mod image;
 pub mod paraxial;
 pub mod reference;

@@ -23,7 +23,7 @@ pub use batch::RayBatch;
 pub use ray::{Outcome, Ray};
 pub use spectral::SpectralBatch;
 pub use step::{intersect, refract, Hit};
-pub use tracer::Tracer;
+pub use tracer::{StopShape, Tracer};
 
 /// Uniform numbers in [0, 1) from a xorshift generator seeded with `seed`,
 /// for the unit tests: the same sequence on every run.

@@ -53,6 +53,36 @@ pub struct Tracer {
     /// The coatings' reflectances tabulated at that wavelength, read by
     /// [`Self::trace_fresnel`] where given ([`Self::with_reflectances`]).
     pub(crate) reflectances: Option<Arc<ReflectanceTable>>,
+    /// A shaped stop's transmission, applied by [`Self::trace_fresnel`] at
+    /// each pass through its surface ([`Self::with_stop_shape`]).
+    pub(crate) stop_shape: Option<StopShape>,
+}
+
+/// A stop's shape for [`Tracer::trace_fresnel`]: at each pass through
+/// surface `surface` (0-based), the ray's power is multiplied by
+/// `transmission(x, y)` of the point it met the surface at (global frame,
+/// mm): 1 inside a polygon of blades, 0 outside, a grey level for a mask.
+/// The surface's clear aperture still clips (a shape inscribed in it
+/// changes nothing outside).
+#[derive(Clone)]
+pub struct StopShape {
+    /// The stop's surface, 0-based.
+    pub surface: usize,
+    /// The transmission at a point of the surface, global x and y in mm.
+    pub transmission: Arc<dyn Fn(f64, f64) -> f64 + Send + Sync>,
+}
+
+impl std::fmt::Debug for StopShape {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("StopShape").field("surface", &self.surface).finish_non_exhaustive()
+    }
+}
+
+impl PartialEq for StopShape {
+    /// The same surface and the same function (one `Arc`).
+    fn eq(&self, other: &Self) -> bool {
+        self.surface == other.surface && Arc::ptr_eq(&self.transmission, &other.transmission)
+    }
 }
 
 /// Each step's asphere in the one-ray path's numbers ([`Tracer::aspheres`]),
@@ -248,7 +278,10 @@ impl Tracer {
     /// The angle of incidence comes from the directions before and after
     /// the step: `n2 d2 - n1 d1` lies along the normal (for a reflection
     /// `d2 - d1`), so the weight needs no surface normal and holds on
-    /// aspheres and tilted surfaces alike.
+    /// aspheres and tilted surfaces alike. With a shaped stop
+    /// ([`Self::with_stop_shape`]) the weight also carries the shape's
+    /// transmission at each pass through the stop (a ghost's path may pass
+    /// it three times).
     pub fn trace_fresnel(&self, ray: Ray) -> (Outcome, f64) {
         let mut weight = 1.0;
         let mut before = ray.direction;
@@ -264,6 +297,11 @@ impl Tracer {
                 weight = 0.0;
             }
             opl = l.opl;
+            if let Some(shape) = &self.stop_shape {
+                if s.surface == shape.surface {
+                    weight *= (shape.transmission)(l.px, l.py);
+                }
+            }
             if s.surface >= self.coatings.len() {
                 return;
             }
@@ -311,6 +349,32 @@ impl Tracer {
         self
     }
 
+    /// This tracer with a shaped stop: [`Self::trace_fresnel`] multiplies
+    /// each ray's weight by the shape's transmission where it passes the
+    /// stop's surface (see [`StopShape`]). What a ghost's path needs behind
+    /// an iris of blades; [`Self::trace`] and the batch tracers keep
+    /// clipping at the clear apertures alone.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use lens::{Prescription, Ray, Tracer};
+    /// use lens::trace::StopShape;
+    /// use std::sync::Arc;
+    /// let p = Prescription::from_json_str(r#"{"surfaces": [
+    ///   {"radius": 51.5, "thickness": 3.6, "ior": 1.5168, "semi_diameter": 12.7, "stop": true},
+    ///   {"thickness": 97.2, "semi_diameter": 12.7}]}"#, "<doc>").unwrap();
+    /// // a square stop 10 mm each side of the axis
+    /// let square = StopShape { surface: 0, transmission: Arc::new(|x: f64, y: f64| f64::from(x.abs().max(y.abs()) <= 10.0)) };
+    /// let t = Tracer::forward(&p).with_stop_shape(square);
+    /// let at = |x: f64| t.trace_fresnel(Ray::new(DVec3::new(x, 0.0, -10.0), DVec3::Z).unwrap()).1;
+    /// assert!(at(8.0) > 0.9); // inside the square and the clear aperture
+    /// assert_eq!(at(-11.0), 0.0); // in the clear aperture, outside the square
+    /// ```
+    pub fn with_stop_shape(mut self, shape: StopShape) -> Self {
+        self.stop_shape = Some(shape);
+        self
+    }
+
     /// A tracer of `steps` through the glasses of `p`.
     fn with_glasses(steps: Vec<Step>, p: &Prescription) -> Self {
         let glasses = p.glasses_shared();
@@ -327,6 +391,7 @@ impl Tracer {
             wavelength_nm: p.wavelength_nm(),
             media,
             reflectances: None,
+            stop_shape: None,
         }
     }
 

@@ -46,6 +46,7 @@ use entrance::{footprints, toward_stop};
 use glam::DVec3;
 use lens::ghost::image::Entrance;
 use lens::ghost::{ghost_pairs, rasterise_with, FilmGrid, Source, EDGE_STEPS};
+use lens::trace::StopShape;
 use lens::{Outcome, Prescription, Ray, Tracer};
 use rayon::prelude::*;
 use std::f64::consts::{PI, TAU};
@@ -161,6 +162,8 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
     // tables cost as much as tracing a few hundred rays), reading the
     // coatings' reflectances from a table (the thin-film formula at every
     // step was a third of a ghost ray's cost)
+    // a stop of blades (or a mask) shapes the ghosts it limits
+    let shape = stop_shape(cam);
     let paths = |k: usize, wanted: &[bool]| -> Vec<Option<Tracer>> {
         let p = &lenses[k];
         let table = Arc::new(Tracer::forward(p).reflectance_table());
@@ -168,11 +171,12 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
             .par_iter()
             .zip(wanted)
             .map(|(&[i, j], &want)| {
-                if want {
-                    Tracer::ghost(p, i, j, p.film_distance()).map(|t| t.with_reflectances(table.clone()))
-                } else {
-                    None
-                }
+                let t = Tracer::ghost(p, i, j, p.film_distance()).filter(|_| want)?;
+                let t = t.with_reflectances(table.clone());
+                Some(match &shape {
+                    Some(s) => t.with_stop_shape(s.clone()),
+                    None => t,
+                })
             })
             .collect()
     };
@@ -303,7 +307,7 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         levels.push((level, grid, sum));
     }
     let glare = if scene.film.flare == FlareSpec::GhostsAndGlare {
-        glare_veil(&lenses, &colours, &sources, &footprints, norm, sw * sh)
+        glare_veil(&lenses, &colours, &sources, &footprints, shape, norm, sw * sh)
     } else {
         DVec3::ZERO
     };
@@ -320,6 +324,15 @@ pub fn ghost_layer(scene: &Scene, cam: &RealLensCamera, w: usize, h: usize, floo
         }
     }
     film
+}
+
+/// The camera's stop shape (its blades or mask at the stop's radius) for
+/// the flare's tracers; `None` for a round stop, which the clear aperture
+/// is.
+fn stop_shape(cam: &RealLensCamera) -> Option<StopShape> {
+    let p = cam.prescription();
+    let transmission = cam.aperture().scaled(p.stop_semi_diameter())?;
+    Some(StopShape { surface: p.stop_index(), transmission })
 }
 
 /// The flare's wavelengths and each one's colour weight (linear sRGB per
@@ -510,6 +523,7 @@ fn glare_veil(
     colours: &[DVec3],
     sources: &[Bright],
     footprints: &[Option<Entrance>],
+    shape: Option<StopShape>,
     norm: f64,
     frame_mm2: f64,
 ) -> DVec3 {
@@ -517,6 +531,10 @@ fn glare_veil(
     let p = &lenses[primary];
     let film = FilmGrid { centre_mm: [0.0; 2], pixel_mm: 1.0, nx: 1, ny: 1 };
     let forward = Tracer::forward(p);
+    let forward = match shape {
+        Some(s) => forward.with_stop_shape(s),
+        None => forward,
+    };
     // each source's light entering, at the primary wavelength (the same for
     // every wavelength's share)
     let entering: Vec<f64> = sources

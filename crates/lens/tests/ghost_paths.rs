@@ -7,8 +7,9 @@ mod common;
 use approx::assert_relative_eq;
 use common::uniform;
 use lens::coating::{Coating, MGF2_INDEX};
-use lens::trace::SpectralBatch;
+use lens::trace::{SpectralBatch, StopShape};
 use lens::{DVec3, Outcome, Prescription, Ray, RayBatch, Tracer};
+use std::sync::Arc;
 
 fn library(name: &str) -> Prescription {
     Prescription::load(common::data_dir().join("library").join(name)).unwrap()
@@ -40,7 +41,10 @@ fn rays_into(p: &Prescription, n: usize, seed: u64) -> Vec<Ray> {
 /// Every ghost path of three library lenses (one with aspheres, a zoom)
 /// traced one ray at a time, in a batch, as rows of a struct of arrays, and
 /// in a batch of mixed wavelengths: the same bits, and some rays of each
-/// lens reach the film by every kind of ending.
+/// lens reach the film by every kind of ending. The Fresnel weights of a
+/// batch (`trace_fresnel_soa`, with and without a square stop shape, the
+/// coatings' reflectances from the table and from the formula) are the
+/// one-ray path's bits too.
 #[test]
 fn ghost_paths_agree_bit_for_bit_on_every_path() {
     for name in [
@@ -71,6 +75,30 @@ fn ghost_paths_agree_bit_for_bit_on_every_path() {
                     assert!(same(&one, &t.outcome_of(&soa, k).unwrap()), "{name} ghost {i}-{j} ray {k}: soa");
                     assert!(same(&one, &t.outcome_of(&spectral.rays, k).unwrap()), "{name} {i}-{j} {k}: spectral");
                     reached += matches!(one, Outcome::Reached { .. }) as usize;
+                }
+                let stop = p.stop_index();
+                let half = 0.8 * p.stop_semi_diameter();
+                let square = Arc::new(move |x: f64, y: f64| f64::from(u8::from(x.abs().max(y.abs()) <= half)));
+                let table = Arc::new(t.reflectance_table());
+                for fresnel in [
+                    t.clone(),
+                    t.clone().with_reflectances(table),
+                    t.clone().with_stop_shape(StopShape { surface: stop, transmission: square.clone() }),
+                ] {
+                    let mut soa = RayBatch::default();
+                    rays.iter().for_each(|r| soa.push(*r));
+                    let mut weights = Vec::new();
+                    fresnel.trace_fresnel_soa(&mut soa, &mut weights);
+                    for (k, r) in rays.iter().enumerate() {
+                        let (one, w) = fresnel.trace_fresnel(*r);
+                        assert!(same(&one, &fresnel.outcome_of(&soa, k).unwrap()), "{name} {i}-{j} {k}: fresnel");
+                        assert_eq!(
+                            w.to_bits(),
+                            weights[k].to_bits(),
+                            "{name} ghost {i}-{j} ray {k}: {w} vs {}",
+                            weights[k]
+                        );
+                    }
                 }
             }
         }

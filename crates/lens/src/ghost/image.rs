@@ -14,10 +14,17 @@
 //! Smooth (no noise) and energy-conserving: every watt of a cell that
 //! reaches the film lands in some triangle (on the grid or, counted in
 //! `total`, off it).
+//!
+//! The rays go through the batch tracer ([`crate::Tracer::trace_fresnel_soa`],
+//! the same bits as one at a time): the grid's corners together, then the
+//! points the cells will ask for traced ahead a level at a time (the
+//! midpoints of the cells to split, then each bisection step of the
+//! finest mixed cells' sides), so that the cells, walked in a fixed order,
+//! find every ray traced.
 
 use super::coverage::{pixel_areas, polygon_area};
 use crate::model::Prescription;
-use crate::trace::{Outcome, Ray, Tracer};
+use crate::trace::{Outcome, Ray, RayBatch, Tracer};
 use glam::DVec3;
 use rayon::prelude::*;
 use std::cell::RefCell;
@@ -147,15 +154,9 @@ impl Entrance {
         let n = cells.max(1);
         let side = 2.0 * self.half_mm / n as f64;
         let at = |i: usize| -self.half_mm + i as f64 * side;
-        let hits: Vec<(usize, usize)> = (0..=n)
-            .into_par_iter()
-            .flat_map_iter(|j| {
-                (0..=n).filter_map(move |i| {
-                    corner(tracer, self, source, self.centre[0] + at(i), self.centre[1] + at(j)).0.map(|_| (i, j))
-                })
-            })
-            .collect();
-        self.around_cells(side, hits.iter().copied(), margin as f64)
+        let grid = grid_corners(tracer, self, source, n, |i, j| [self.centre[0] + at(i), self.centre[1] + at(j)]);
+        let hits = (0..=n).flat_map(|j| (0..=n).map(move |i| (i, j))).filter(|&(i, j)| grid[j][i].0.is_some());
+        self.around_cells(side, hits, margin as f64)
     }
 
     /// The square of this entrance's plane that holds the grid points
@@ -274,10 +275,68 @@ fn corner(tracer: &Tracer, entrance: &Entrance, source: &Source, x: f64, y: f64)
     }
 }
 
+/// The corner rays through the entrance points `at`, traced together
+/// ([`Tracer::trace_fresnel_soa`]: the same bits as [`corner`] one at a
+/// time).
+fn corners(tracer: &Tracer, entrance: &Entrance, source: &Source, at: &[[f64; 2]]) -> Vec<(Corner, f64)> {
+    let mut batch = RayBatch::with_capacity(at.len());
+    let mut density = Vec::with_capacity(at.len());
+    for &[x, y] in at {
+        match entrance.ray_at(source, x, y) {
+            Some((ray, d)) => {
+                batch.push(ray);
+                density.push(d);
+            }
+            None => {
+                batch.push_skipped();
+                density.push(0.0);
+            }
+        }
+    }
+    let mut weights = Vec::new();
+    tracer.trace_fresnel_soa(&mut batch, &mut weights);
+    (0..at.len())
+        .map(|i| {
+            let reached = batch.status[i] == 0 && weights[i] > 0.0;
+            (reached.then_some(([batch.x[i], batch.y[i]], weights[i])), density[i])
+        })
+        .collect()
+}
+
+/// Points of a grid traced together, at most (a larger grid is cut into
+/// parts this size traced in parallel).
+const BATCH: usize = 2048;
+
+/// The corner rays of a grid of `(n + 1)^2` points, `point(i, j)`, by rows
+/// (row j, column i): traced in batches, in parallel for a large grid.
+fn grid_corners(
+    tracer: &Tracer,
+    entrance: &Entrance,
+    source: &Source,
+    n: usize,
+    point: impl Fn(usize, usize) -> [f64; 2] + Sync,
+) -> Vec<Vec<(Corner, f64)>> {
+    let rows_per = (BATCH / (n + 1)).max(1);
+    let parts: Vec<Vec<(Corner, f64)>> = (0..=n)
+        .step_by(rows_per)
+        .collect::<Vec<_>>()
+        .into_par_iter()
+        .map(|j0| {
+            let at: Vec<[f64; 2]> = (j0..(j0 + rows_per).min(n + 1))
+                .flat_map(|j| (0..=n).map(move |i| (i, j)))
+                .map(|(i, j)| point(i, j))
+                .collect();
+            corners(tracer, entrance, source, &at)
+        })
+        .collect();
+    let all: Vec<(Corner, f64)> = parts.into_iter().flatten().collect();
+    all.chunks(n + 1).map(|r| r.to_vec()).collect()
+}
+
 /// The image through `tracer` (a ghost's path, [`Tracer::ghost`], or the
 /// primary's, [`Tracer::forward_to_film`], ending on the film plane) of
 /// `source`, on `film`, from a `cells` x `cells` grid over `entrance`
-/// (refined at the edges, see the module). The corners of the grid are
+/// (refined at the edges, see the module). A large grid's corners are
 /// traced in parallel; the rest runs in a fixed order, so the image is
 /// the same bits for any thread count.
 pub fn rasterise(tracer: &Tracer, source: &Source, entrance: &Entrance, film: &FilmGrid, cells: usize) -> GhostImage {
@@ -302,14 +361,8 @@ pub fn rasterise_with(
     let n = cells.max(1);
     let side = 2.0 * entrance.half_mm / n as f64;
     let at = |i: usize| -entrance.half_mm + i as f64 * side;
-    let corners: Vec<Vec<(Corner, f64)>> = (0..=n)
-        .into_par_iter()
-        .map(|j| {
-            (0..=n)
-                .map(|i| corner(tracer, entrance, source, entrance.centre[0] + at(i), entrance.centre[1] + at(j)))
-                .collect()
-        })
-        .collect();
+    let corners =
+        grid_corners(tracer, entrance, source, n, |i, j| [entrance.centre[0] + at(i), entrance.centre[1] + at(j)]);
     let mut image = GhostImage::empty(film);
     let traced = RefCell::new(HashMap::new());
     // bisection past 2^-30 of a cell is below the rounding of its points
@@ -319,6 +372,18 @@ pub fn rasterise_with(
     let grid = Grid { tracer, entrance, source, film, edge_steps, origin, unit, traced: &traced };
     let hits = (0..=n).flat_map(|j| (0..=n).map(move |i| (i, j))).filter(|&(i, j)| corners[j][i].0.is_some());
     image.entered = entrance.around_cells(side, hits, 1.0);
+    // every ray the cells will ask for, traced ahead in batches
+    let depth = MAX_SPLITS - splits.min(MAX_SPLITS);
+    let todo: Vec<Todo> = (0..n)
+        .flat_map(|j| (0..n).map(move |i| (i, j)))
+        .map(|(i, j)| Todo {
+            xy: [entrance.centre[0] + at(i), entrance.centre[1] + at(j)],
+            side,
+            c: [corners[j][i], corners[j][i + 1], corners[j + 1][i + 1], corners[j + 1][i]],
+            depth,
+        })
+        .collect();
+    grid.trace_ahead(todo);
     for j in 0..n {
         for i in 0..n {
             let c = [corners[j][i], corners[j][i + 1], corners[j + 1][i + 1], corners[j + 1][i]];
@@ -356,18 +421,131 @@ struct Grid<'a> {
     traced: &'a RefCell<Traced>,
 }
 
+/// A cell still to be looked at (see [`cell`]): its lower corner, side,
+/// corners and depth of splitting.
+#[derive(Clone, Copy)]
+struct Todo {
+    xy: [f64; 2],
+    side: f64,
+    c: [(Corner, f64); 4],
+    depth: u32,
+}
+
+/// A mixed side of an edge cell being bisected: the ends that reached and
+/// did not.
+struct Bisect {
+    lo: [f64; 2],
+    hi: [f64; 2],
+}
+
 impl Grid<'_> {
+    /// The lattice point of the entrance point (x, y).
+    fn key(&self, x: f64, y: f64) -> (i64, i64) {
+        (((x - self.origin[0]) / self.unit).round() as i64, ((y - self.origin[1]) / self.unit).round() as i64)
+    }
+
     /// The ray through the entrance point (x, y), traced once per lattice
-    /// point.
+    /// point (read from what [`Self::trace_ahead`] traced).
     fn corner(&self, x: f64, y: f64) -> (Corner, f64) {
-        let key =
-            (((x - self.origin[0]) / self.unit).round() as i64, ((y - self.origin[1]) / self.unit).round() as i64);
+        let key = self.key(x, y);
         if let Some(c) = self.traced.borrow().get(&key) {
             return *c;
         }
         let c = corner(self.tracer, self.entrance, self.source, x, y);
         self.traced.borrow_mut().insert(key, c);
         c
+    }
+
+    /// Traces the points of `at` not traced yet, together, and keeps them.
+    fn trace_all(&self, at: &[[f64; 2]]) {
+        let mut seen = std::collections::HashSet::new();
+        let fresh: Vec<[f64; 2]> = {
+            let traced = self.traced.borrow();
+            at.iter()
+                .copied()
+                .filter(|p| !traced.contains_key(&self.key(p[0], p[1])) && seen.insert(self.key(p[0], p[1])))
+                .collect()
+        };
+        if fresh.is_empty() {
+            return;
+        }
+        let out = corners(self.tracer, self.entrance, self.source, &fresh);
+        let mut traced = self.traced.borrow_mut();
+        for (p, c) in fresh.iter().zip(out) {
+            traced.insert(self.key(p[0], p[1]), c);
+        }
+    }
+
+    /// Traces ahead, a level at a time and each level's rays together,
+    /// every point [`cell`] and [`edge_cell`] will ask for from the cells
+    /// `todo`: the midpoints of the cells to split, level by level, then
+    /// the bisections of the finest mixed cells' sides, step by step. The
+    /// same decisions as theirs from the same rays, so that they then find
+    /// every ray traced (and the image is the same bits as tracing each
+    /// when asked).
+    fn trace_ahead(&self, mut todo: Vec<Todo>) {
+        let mut edges: Vec<Todo> = Vec::new();
+        while !todo.is_empty() {
+            let mut split = Vec::new();
+            for t in todo {
+                let reached = t.c.iter().filter(|k| k.0.is_some()).count();
+                if reached == 0 || reached == 4 {
+                    continue;
+                }
+                if t.depth >= MAX_SPLITS {
+                    edges.push(t);
+                } else {
+                    split.push(t);
+                }
+            }
+            let points: Vec<[f64; 2]> = split
+                .iter()
+                .flat_map(|t| {
+                    let (xy, side, h) = (t.xy, t.side, t.side / 2.0);
+                    [(h, 0.0), (side, h), (h, side), (0.0, h), (h, h)].map(|(dx, dy)| [xy[0] + dx, xy[1] + dy])
+                })
+                .collect();
+            self.trace_all(&points);
+            todo = split
+                .iter()
+                .flat_map(|t| {
+                    let (xy, side, h, c) = (t.xy, t.side, t.side / 2.0, t.c);
+                    let at = |dx: f64, dy: f64| self.corner(xy[0] + dx, xy[1] + dy);
+                    let (b, r, tp, l, m) = (at(h, 0.0), at(side, h), at(h, side), at(0.0, h), at(h, h));
+                    let depth = t.depth + 1;
+                    [
+                        Todo { xy: [xy[0], xy[1]], side: h, c: [c[0], b, m, l], depth },
+                        Todo { xy: [xy[0] + h, xy[1]], side: h, c: [b, c[1], r, m], depth },
+                        Todo { xy: [xy[0] + h, xy[1] + h], side: h, c: [m, r, c[2], tp], depth },
+                        Todo { xy: [xy[0], xy[1] + h], side: h, c: [l, m, tp, c[3]], depth },
+                    ]
+                })
+                .collect();
+        }
+        // the finest mixed cells' mixed sides, bisected a step at a time
+        let mut sides: Vec<Bisect> = Vec::new();
+        for t in &edges {
+            let (xy, side, c) = (t.xy, t.side, t.c);
+            let at = [[xy[0], xy[1]], [xy[0] + side, xy[1]], [xy[0] + side, xy[1] + side], [xy[0], xy[1] + side]];
+            for k in 0..4 {
+                let (a, b) = (k, (k + 1) % 4);
+                if c[a].0.is_some() != c[b].0.is_some() {
+                    let (lo, hi) = if c[a].0.is_some() { (at[a], at[b]) } else { (at[b], at[a]) };
+                    sides.push(Bisect { lo, hi });
+                }
+            }
+        }
+        for _ in 0..self.edge_steps {
+            let mids: Vec<[f64; 2]> =
+                sides.iter().map(|b| [(b.lo[0] + b.hi[0]) / 2.0, (b.lo[1] + b.hi[1]) / 2.0]).collect();
+            self.trace_all(&mids);
+            for (b, mid) in sides.iter_mut().zip(mids) {
+                match self.corner(mid[0], mid[1]) {
+                    (Some(_), _) => b.lo = mid,
+                    _ => b.hi = mid,
+                }
+            }
+        }
     }
 }
 

@@ -526,6 +526,53 @@ impl Tracer {
         self.trace_soa_portable(batch)
     }
 
+    /// [`Self::trace_soa`] that also gives each ray's Fresnel weight in
+    /// `weights` (made the batch's length): the fraction of its power that
+    /// takes this path, as [`Self::trace_fresnel`] gives it for one ray,
+    /// the same bits (1 for a ray that came in stopped). The steps run a
+    /// chunk of rays at a time where the CPU has AVX2 and FMA and the
+    /// tracer no decentred or tilted step; the weights are taken ray by
+    /// ray after each step.
+    ///
+    /// ```
+    /// use glam::DVec3;
+    /// use lens::{Prescription, Ray, RayBatch, Tracer};
+    /// let p = Prescription::from_json_str(r#"{"surfaces": [
+    ///   {"radius": 51.5, "thickness": 3.6, "ior": 1.5168, "semi_diameter": 12.7, "stop": true, "coating": "none"},
+    ///   {"thickness": 97.2, "semi_diameter": 12.7, "coating": "none"}]}"#, "<doc>").unwrap();
+    /// let ghost = Tracer::ghost(&p, 0, 1, 97.2).unwrap();
+    /// let rays: Vec<Ray> = (0..5).map(|k| Ray::new(DVec3::new(0.0, 2.0 * k as f64, -5.0), DVec3::Z).unwrap()).collect();
+    /// let mut batch = RayBatch::with_capacity(rays.len());
+    /// rays.iter().for_each(|r| batch.push(*r));
+    /// let mut weights = Vec::new();
+    /// ghost.trace_fresnel_soa(&mut batch, &mut weights);
+    /// for (k, r) in rays.iter().enumerate() {
+    ///     let (_, w) = ghost.trace_fresnel(*r);
+    ///     assert_eq!(weights[k].to_bits(), w.to_bits());
+    /// }
+    /// // the axial ray: in through one face, reflected by each, out again
+    /// let r = (0.5168f64 / 2.5168).powi(2);
+    /// assert!((weights[0] - r * r * (1.0 - r) * (1.0 - r)).abs() < 1e-12, "{}", weights[0]);
+    /// ```
+    pub fn trace_fresnel_soa(&self, batch: &mut RayBatch, weights: &mut Vec<f64>) {
+        weights.clear();
+        weights.resize(batch.len(), 1.0);
+        if self.steps.is_empty() {
+            return;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if simd_fma() && self.steps.iter().all(|s| s.frame.is_none()) {
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            unsafe { self.trace_fresnel_avx2(batch, weights) };
+            return;
+        }
+        self.each_ray(batch, |i, l| {
+            let (l, k, kind, w) = self.fresnel_walk(l);
+            weights[i] = w;
+            (l, k, kind)
+        });
+    }
+
     /// [`Self::trace_soa`] ray by ray on the one-ray path: for CPUs without
     /// AVX2 and FMA.
     fn trace_soa_portable(&self, batch: &mut RayBatch) {
@@ -536,7 +583,11 @@ impl Tracer {
     /// (its state in, its state in the frame of the step `k` where it
     /// stopped and the stop's kind out), and writes back its global state
     /// and status: the one-ray path over a batch.
-    pub(super) fn each_ray(&self, batch: &mut RayBatch, walk: impl Fn(usize, Lane<f64>) -> (Lane<f64>, usize, u64)) {
+    pub(super) fn each_ray(
+        &self,
+        batch: &mut RayBatch,
+        mut walk: impl FnMut(usize, Lane<f64>) -> (Lane<f64>, usize, u64),
+    ) {
         for i in 0..batch.len() {
             if batch.status[i] != 0 {
                 continue;
@@ -860,6 +911,21 @@ impl Tracer {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn trace_chunk<const PER_RAY: bool>(&self, c: &mut Chunk, m: usize, ix: &ChunkIndices) {
+        self.trace_chunk_with::<PER_RAY>(c, m, ix, |_, _, _, _, _| {});
+    }
+
+    /// [`Self::trace_chunk`], showing `after` each step `k` (the step, the
+    /// rays before it and after it, each in its step's frame, and the rays
+    /// that passed every step so far: bit `i` for ray `i`).
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn trace_chunk_with<const PER_RAY: bool>(
+        &self,
+        c: &mut Chunk,
+        m: usize,
+        ix: &ChunkIndices,
+        mut after: impl FnMut(usize, &Step, &Rays4, &Rays4, u64),
+    ) {
         let n = c.pad(m);
         for (k, s) in self.steps.iter().enumerate() {
             // a decentred or tilted surface is met in its own frame
@@ -881,7 +947,72 @@ impl Tracer {
                 let alive = c.alive;
                 c.live[(k + 1) % 2].leave(f, n.min(VECTORS), alive);
             }
+            let [a, b] = &c.live;
+            let (before, now) = if k.is_multiple_of(2) { (a, b) } else { (b, a) };
+            after(k, s, before, now, c.alive & (u64::MAX >> (64 - m.max(1))));
         }
+    }
+
+    /// [`Self::trace_fresnel_soa`] on AVX2 + FMA, a chunk at a time, for a
+    /// tracer without decentred or tilted steps: each step's weight from
+    /// the chunk's rays before and after it, ray by ray by
+    /// [`Tracer::passed_weight`] as the one-ray path does.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn trace_fresnel_avx2(&self, batch: &mut RayBatch, weights: &mut [f64]) {
+        let mut c = Chunk::for_tracer(self);
+        let last_z = self.steps[self.steps.len() - 1].vertex_z;
+        let n = batch.len();
+        let ix = ChunkIndices::default();
+        let mut start = 0;
+        while start < n {
+            let m = (n - start).min(CHUNK);
+            let r = start..start + m;
+            let live = &mut c.live[0];
+            for (to, from) in [
+                (&mut live.x, &batch.x),
+                (&mut live.y, &batch.y),
+                (&mut live.z, &batch.z),
+                (&mut live.dx, &batch.dx),
+                (&mut live.dy, &batch.dy),
+                (&mut live.dz, &batch.dz),
+                (&mut live.opl, &batch.opl),
+            ] {
+                copy_quads(to, &from[r.clone()]);
+            }
+            c.status.as_flattened_mut()[..m].copy_from_slice(&batch.status[r.clone()]);
+            for i in ones(nonzero(&batch.status[r.clone()])) {
+                c.put(i, batch.lane(start + i), batch.status[start + i]);
+            }
+            let w = &mut weights[r.clone()];
+            self.trace_chunk_with::<false>(&mut c, m, &ix, |_, s, before, now, alive| {
+                for i in ones(alive) {
+                    let b = before.get(i);
+                    w[i] = self.passed_weight(w[i], s, DVec3::new(b.dx, b.dy, b.dz), b.opl, &now.get(i));
+                }
+            });
+            let fin = &c.live[self.steps.len() % 2];
+            for (to, from) in [
+                (&mut batch.x, &fin.x),
+                (&mut batch.y, &fin.y),
+                (&mut batch.z, &fin.z),
+                (&mut batch.dx, &fin.dx),
+                (&mut batch.dy, &fin.dy),
+                (&mut batch.dz, &fin.dz),
+                (&mut batch.opl, &fin.opl),
+            ] {
+                copy_from_quads(&mut to[r.clone()], from);
+            }
+            for z in &mut batch.z[r.clone()] {
+                *z += last_z;
+            }
+            batch.status[r.clone()].copy_from_slice(&c.status.as_flattened()[..m]);
+            for i in ones(c.stopped(m)) {
+                batch.set_lane(start + i, c.done.get(i));
+            }
+            start += m;
+        }
+        Chunk::keep(c);
     }
 }
 

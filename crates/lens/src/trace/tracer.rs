@@ -283,50 +283,67 @@ impl Tracer {
     /// transmission at each pass through the stop (a ghost's path may pass
     /// it three times).
     pub fn trace_fresnel(&self, ray: Ray) -> (Outcome, f64) {
+        let (l, k, kind, weight) = self.fresnel_walk(Lane::of_ray(&ray));
+        (self.outcome(l, k, kind), weight)
+    }
+
+    /// [`Self::walk_lane`] of one ray from `l` with its Fresnel weight
+    /// ([`Self::trace_fresnel`]).
+    pub(crate) fn fresnel_walk(&self, l: Lane<f64>) -> (Lane<f64>, usize, u64, f64) {
         let mut weight = 1.0;
-        let mut before = ray.direction;
-        let nm = self.wavelength_nm;
-        let mut opl = 0.0;
+        let mut before = DVec3::new(l.dx, l.dy, l.dz);
+        let mut opl = l.opl;
         let visit = |s: &Step, l: &Lane<f64>, kind: u64| {
             if kind != PASSED {
                 return;
             }
-            // a step the ray met behind itself (sequential tracing follows
-            // the line both ways): no light goes there
-            if l.opl < opl {
-                weight = 0.0;
-            }
+            weight = self.passed_weight(weight, s, before, opl, l);
             opl = l.opl;
-            if let Some(shape) = &self.stop_shape {
-                if s.surface == shape.surface {
-                    weight *= (shape.transmission)(l.px, l.py);
-                }
-            }
-            if s.surface >= self.coatings.len() {
-                return;
-            }
-            let after = DVec3::new(l.dx, l.dy, l.dz);
-            // light met the surface from its image side (travelling -z): the
-            // layers in reverse, and a reflection's other side before it
-            let backward = before.z < 0.0;
-            let n2 = match (s.reflect, backward) {
-                (false, _) => s.n_after,
-                (true, false) => self.media[s.surface + 1],
-                (true, true) => self.media[s.surface],
-            };
-            let n1 = s.n_before;
-            let along = if s.reflect { after - before } else { n2 * after - n1 * before };
-            let norm = along.length();
-            if (s.reflect || n1 != n2) && norm > 0.0 {
-                let cos1 = (before.dot(along) / norm).abs().min(1.0);
-                let tabled = self.reflectances.as_ref().and_then(|t| t.get(s.surface, backward, cos1));
-                let r = tabled.unwrap_or_else(|| self.coatings[s.surface].reflectance(n1, n2, cos1, nm, backward));
-                weight *= if s.reflect { r } else { 1.0 - r };
-            }
-            before = after;
+            before = DVec3::new(l.dx, l.dy, l.dz);
         };
-        let outcome = self.walk_fastest(ray, visit);
-        (outcome, weight)
+        let (l, k, kind) = self.walk_lane_fastest(l, visit);
+        (l, k, kind, weight)
+    }
+
+    /// A ray's Fresnel weight `weight` carried across step `s`, which it
+    /// passed: from its direction `before` the step and path length
+    /// `opl_before`, to `l` after it. 0 where it met the surface behind
+    /// itself (its path shrank: sequential tracing follows the line both
+    /// ways, light does not); times the stop shape's transmission at a
+    /// pass through the stop; times the surface's reflectance or
+    /// transmittance at the angle of incidence. One function for the
+    /// one-ray and the batch paths, so that they agree bit for bit.
+    #[inline(always)]
+    pub(crate) fn passed_weight(&self, weight: f64, s: &Step, before: DVec3, opl_before: f64, l: &Lane<f64>) -> f64 {
+        let mut weight = if l.opl < opl_before { 0.0 } else { weight };
+        if let Some(shape) = &self.stop_shape {
+            if s.surface == shape.surface {
+                weight *= (shape.transmission)(l.px, l.py);
+            }
+        }
+        if s.surface >= self.coatings.len() {
+            return weight;
+        }
+        let after = DVec3::new(l.dx, l.dy, l.dz);
+        // light met the surface from its image side (travelling -z): the
+        // layers in reverse, and a reflection's other side before it
+        let backward = before.z < 0.0;
+        let n2 = match (s.reflect, backward) {
+            (false, _) => s.n_after,
+            (true, false) => self.media[s.surface + 1],
+            (true, true) => self.media[s.surface],
+        };
+        let n1 = s.n_before;
+        let along = if s.reflect { after - before } else { n2 * after - n1 * before };
+        let norm = along.length();
+        if (s.reflect || n1 != n2) && norm > 0.0 {
+            let cos1 = (before.dot(along) / norm).abs().min(1.0);
+            let tabled = self.reflectances.as_ref().and_then(|t| t.get(s.surface, backward, cos1));
+            let r = tabled
+                .unwrap_or_else(|| self.coatings[s.surface].reflectance(n1, n2, cos1, self.wavelength_nm, backward));
+            weight *= if s.reflect { r } else { 1.0 - r };
+        }
+        weight
     }
 
     /// The coatings' reflectances of this tracer's lens, tabulated at its
@@ -466,6 +483,26 @@ impl Tracer {
     /// Traces one ray (global frame) and classifies how it ended.
     pub fn trace(&self, ray: Ray) -> Outcome {
         self.walk_fastest(ray, |_, _, _| {})
+    }
+
+    /// [`Self::walk_lane`] with hardware fused multiply-add where the CPU
+    /// has it.
+    #[inline(always)]
+    fn walk_lane_fastest(&self, l: Lane<f64>, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> (Lane<f64>, usize, u64) {
+        #[cfg(target_arch = "x86_64")]
+        if simd_fma() {
+            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
+            return unsafe { self.walk_lane_fma(l, visit) };
+        }
+        self.walk_lane(l, visit)
+    }
+
+    /// [`Self::walk_lane`] compiled with hardware fused multiply-add (the
+    /// same bits, see [`Self::walk_fma`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn walk_lane_fma(&self, l: Lane<f64>, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> (Lane<f64>, usize, u64) {
+        self.walk_lane(l, visit)
     }
 
     /// [`Self::walk`] with hardware fused multiply-add where the CPU has it.

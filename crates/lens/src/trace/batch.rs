@@ -796,6 +796,22 @@ impl Tracer {
         wavelength_nm: &[f64],
         ix: &mut ChunkIndices,
     ) {
+        self.trace_soa_chunks::<PER_RAY>(batch, wavelength_nm, ix, |_, _, _, _, _, _| {});
+    }
+
+    /// [`Self::trace_soa_avx2`], showing `after` each step of each chunk
+    /// (the chunk's first ray's index in the batch, then as
+    /// [`Self::trace_chunk_with`] shows them). Inlined into callers that
+    /// have AVX2 and FMA.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn trace_soa_chunks<const PER_RAY: bool>(
+        &self,
+        batch: &mut RayBatch,
+        wavelength_nm: &[f64],
+        ix: &mut ChunkIndices,
+        mut after: impl FnMut(usize, usize, &Step, &Rays4, &Rays4, u64),
+    ) {
         let mut c = Chunk::for_tracer(self);
         let last_z = self.steps[self.steps.len() - 1].vertex_z;
         let n = batch.len();
@@ -829,7 +845,9 @@ impl Tracer {
                     self.chunk_indices::<F64x4>(&wavelength_nm[r.clone()], ix);
                 }
             }
-            self.trace_chunk::<PER_RAY>(&mut c, m, ix);
+            self.trace_chunk_with::<PER_RAY>(&mut c, m, ix, |k, s, before, now, alive| {
+                after(start, k, s, before, now, alive)
+            });
             let fin = &c.live[self.steps.len() % 2];
             for (to, from) in [
                 (&mut batch.x, &fin.x),
@@ -960,59 +978,12 @@ impl Tracer {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn trace_fresnel_avx2(&self, batch: &mut RayBatch, weights: &mut [f64]) {
-        let mut c = Chunk::for_tracer(self);
-        let last_z = self.steps[self.steps.len() - 1].vertex_z;
-        let n = batch.len();
-        let ix = ChunkIndices::default();
-        let mut start = 0;
-        while start < n {
-            let m = (n - start).min(CHUNK);
-            let r = start..start + m;
-            let live = &mut c.live[0];
-            for (to, from) in [
-                (&mut live.x, &batch.x),
-                (&mut live.y, &batch.y),
-                (&mut live.z, &batch.z),
-                (&mut live.dx, &batch.dx),
-                (&mut live.dy, &batch.dy),
-                (&mut live.dz, &batch.dz),
-                (&mut live.opl, &batch.opl),
-            ] {
-                copy_quads(to, &from[r.clone()]);
+        self.trace_soa_chunks::<false>(batch, &[], &mut ChunkIndices::default(), |start, _, s, before, now, alive| {
+            for i in ones(alive) {
+                let (b, w) = (before.get(i), &mut weights[start + i]);
+                *w = self.passed_weight(*w, s, DVec3::new(b.dx, b.dy, b.dz), b.opl, &now.get(i));
             }
-            c.status.as_flattened_mut()[..m].copy_from_slice(&batch.status[r.clone()]);
-            for i in ones(nonzero(&batch.status[r.clone()])) {
-                c.put(i, batch.lane(start + i), batch.status[start + i]);
-            }
-            let w = &mut weights[r.clone()];
-            self.trace_chunk_with::<false>(&mut c, m, &ix, |_, s, before, now, alive| {
-                for i in ones(alive) {
-                    let b = before.get(i);
-                    w[i] = self.passed_weight(w[i], s, DVec3::new(b.dx, b.dy, b.dz), b.opl, &now.get(i));
-                }
-            });
-            let fin = &c.live[self.steps.len() % 2];
-            for (to, from) in [
-                (&mut batch.x, &fin.x),
-                (&mut batch.y, &fin.y),
-                (&mut batch.z, &fin.z),
-                (&mut batch.dx, &fin.dx),
-                (&mut batch.dy, &fin.dy),
-                (&mut batch.dz, &fin.dz),
-                (&mut batch.opl, &fin.opl),
-            ] {
-                copy_from_quads(&mut to[r.clone()], from);
-            }
-            for z in &mut batch.z[r.clone()] {
-                *z += last_z;
-            }
-            batch.status[r.clone()].copy_from_slice(&c.status.as_flattened()[..m]);
-            for i in ones(c.stopped(m)) {
-                batch.set_lane(start + i, c.done.get(i));
-            }
-            start += m;
-        }
-        Chunk::keep(c);
+        });
     }
 }
 

@@ -497,32 +497,23 @@ impl Tracer {
         self.walk_lane(l, visit)
     }
 
-    /// [`Self::walk_lane`] compiled with hardware fused multiply-add (the
-    /// same bits, see [`Self::walk_fma`]).
+    /// [`Self::walk_lane`] compiled with hardware fused multiply-add. The
+    /// kernel uses `mul_add` everywhere, which is exactly rounded with or
+    /// without the instruction, so this only changes the speed, never the
+    /// bits.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn walk_lane_fma(&self, l: Lane<f64>, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> (Lane<f64>, usize, u64) {
         self.walk_lane(l, visit)
     }
 
-    /// [`Self::walk`] with hardware fused multiply-add where the CPU has it.
+    /// Carries `ray` step by step until it stops, showing `visit` each
+    /// step's result ([`Self::walk_lane_fastest`]), and classifies how it
+    /// ended.
     #[inline(always)]
     fn walk_fastest(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
-        #[cfg(target_arch = "x86_64")]
-        if simd_fma() {
-            // SAFETY: the CPU has AVX2 and FMA (checked by simd_fma).
-            return unsafe { self.walk_fma(ray, visit) };
-        }
-        self.walk(ray, visit)
-    }
-
-    /// [`Self::walk`] compiled with hardware fused multiply-add. The kernel
-    /// uses `mul_add` everywhere, which is exactly rounded with or without
-    /// the instruction, so this only changes the speed, never the bits.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn walk_fma(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
-        self.walk(ray, visit)
+        let (l, k, kind) = self.walk_lane_fastest(Lane::of_ray(&ray), visit);
+        self.outcome(l, k, kind)
     }
 
     /// Traces one ray and also returns the global point where it met each
@@ -551,14 +542,6 @@ impl Tracer {
         };
         let outcome = self.walk_fastest(ray, visit);
         (outcome, at)
-    }
-
-    /// Carries `ray` step by step until it stops, showing `visit` each
-    /// step's result.
-    #[inline(always)]
-    fn walk(&self, ray: Ray, visit: impl FnMut(&Step, &Lane<f64>, u64)) -> Outcome {
-        let (l, k, kind) = self.walk_lane(Lane::of_ray(&ray), visit);
-        self.outcome(l, k, kind)
     }
 
     /// Carries one ray from `l` (global frame) step by step until it stops;

@@ -321,15 +321,20 @@ fn load_mask(path: &std::path::Path) -> Result<Mask, ApertureError> {
 mod tests {
     use super::*;
 
+    /// Uniform numbers in [0, 1) from a linear congruential generator
+    /// seeded with `seed`: the same sequence on every run.
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     /// A polygon holds a point exactly when the point lies inside every
     /// edge's half-plane, the edge nearest its direction deciding.
     #[test]
     fn polygon_holds_what_every_edge_does() {
-        let mut seed = 11u64;
-        let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(11);
         for blades in 3..=12u32 {
             for rotation in [0.0, 0.3, -2.0, 7.5] {
                 let a = Aperture::Polygon { blades, rotation };
@@ -355,11 +360,7 @@ mod tests {
     /// the radius, for polygons and masks; the circle has none.
     #[test]
     fn scaled_shape_is_the_shape_at_the_scaled_point() {
-        let mut seed = 5u64;
-        let mut next = || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(5);
         let mask = Mask::new(3, 2, vec![0.0, 0.5, 1.0, 0.25, 1.0, 0.0]).unwrap();
         let shapes = [
             Aperture::Polygon { blades: 6, rotation: 0.17 },

@@ -234,3 +234,48 @@ fn ghost_light_at_f16(shape: &str, lamp: DVec3) -> (f64, f64) {
     }
     (got, want)
 }
+
+/// A small emissive quad makes ghosts as a point source of its area
+/// times its cosine toward the lens: a square lamp 3.54 cm wide facing the
+/// lens gives the ghost layer of a sphere lamp of 2 cm radius (the same
+/// area across) at the same place within 0.5%; turned away, or 40 cm wide
+/// (over 2 degrees from 4 m), it makes none.
+#[test]
+fn small_flat_lamps_make_ghosts() {
+    let lamp = DVec3::new(0.25, 0.15, 4.0);
+    let layer = |shape: &str| -> f64 {
+        let json = format!(
+            r#"{{"camera": {{"type": "lens", "prescription": "../singlet-n-bk7-100mm.json", "f_number": 5.6,
+                  "focus_distance": 3.0, "sensor_mm": [36, 27], "coating": "none",
+                  "position": [0, 0, 0], "look_at": [0, 0, 1]}},
+                "film": {{"width": 160, "height": 120, "spp": 4, "wavelength_nm": 550, "flare": "ghosts"}},
+                "materials": {{"l": {{"type": "emissive", "radiance": [1000, 1000, 1000]}}}},
+                "shapes": [{shape}]}}"#
+        );
+        let file: SceneFile = serde_json::from_str(&json).unwrap();
+        let scene = Scene::build(file, &data(), "<test>").unwrap();
+        let Camera::Real(cam) = &scene.camera else { panic!("a real lens") };
+        ghost_layer(&scene, cam, 160, 120, 0.0).iter().map(|v| v.y).sum()
+    };
+    let (x, y, z) = (lamp.x, lamp.y, lamp.z);
+    let sphere = layer(&format!(r#"{{"type": "sphere", "center": [{x}, {y}, {z}], "radius": 0.02, "material": "l"}}"#));
+    // a square `a` wide centred on the lamp, its front (u x v) toward -z
+    // (the camera) or +z
+    let quad = |a: f64, toward: f64| {
+        format!(
+            r#"{{"type": "quad", "corner": [{}, {}, {z}], "u": [{}, 0, 0], "v": [0, {a}, 0], "material": "l"}}"#,
+            x - toward * a / 2.0,
+            y - a / 2.0,
+            toward * a,
+        )
+    };
+    let a = 0.02 * std::f64::consts::PI.sqrt();
+    let square = layer(&quad(a, -1.0));
+    let away = layer(&quad(a, 1.0));
+    let wide = layer(&quad(0.4, -1.0));
+    eprintln!("ghost light: sphere {sphere:.5}, square {square:.5}, turned away {away}, 40 cm wide {wide}");
+    assert!(sphere > 0.0);
+    assert!((square - sphere).abs() < 5e-3 * sphere, "{square} vs {sphere}");
+    assert_eq!(away, 0.0);
+    assert_eq!(wide, 0.0);
+}

@@ -3,10 +3,12 @@
 //! (`ghosts+glare`) the veil of the light reflected four times or more.
 //!
 //! - Sources: the emissive spheres (each taken as a point at its centre of
-//!   the intensity its disc sends toward the lens; the [`MAX_SOURCES`]
-//!   most powerful that the lens's front vertex sees unoccluded) and the
-//!   bright patches of an environment (each a direction, the patch's
-//!   power-weighted centre, of the irradiance its texels give).
+//!   the intensity its disc sends toward the lens), the emissive quads
+//!   that look small from the lens (within [`FLAT_SOURCE_RAD`]; their
+//!   area times the cosine toward the lens) and the bright patches of an
+//!   environment (each a direction, the patch's power-weighted centre, of
+//!   the irradiance its texels give): the [`MAX_SOURCES`] most powerful
+//!   that the lens's front vertex sees unoccluded.
 //! - Ghosts: every two-reflection path of the lens (`lens::ghost`), each
 //!   source's image through it rasterised from a ray grid with Fresnel
 //!   weights at each ray's angle and wavelength (`lens::ghost::rasterise`,
@@ -501,7 +503,16 @@ fn bright_sources(scene: &Scene, cam: &RealLensCamera, nms: &[f64]) -> Vec<Brigh
     let mut out: Vec<(f64, Bright)> = Vec::new();
     for (i, shape) in scene.shapes.iter().enumerate() {
         let m = &scene.materials[scene.material_of[i]];
-        let (Material::Emissive { .. }, Shape::Sphere { center, radius }) = (m, shape) else { continue };
+        if !matches!(m, Material::Emissive { .. }) {
+            continue;
+        }
+        if let Some(b) = small_flat_source(cam, shape, m, nms, &at) {
+            if seen((b.1 - front).normalize(), Some(i)) {
+                out.push((b.0, Bright { source: Source::Point(b.1), scale: b.2, radiance: b.3 }));
+            }
+            continue;
+        }
+        let Shape::Sphere { center, radius } = shape else { continue };
         let c = cam.point_to_lens(*center);
         let rho = radius * 1e3;
         let r = (c - front).length();
@@ -543,6 +554,52 @@ fn bright_sources(scene: &Scene, cam: &RealLensCamera, nms: &[f64]) -> Vec<Brigh
     out.sort_by(|a, b| b.0.total_cmp(&a.0));
     out.truncate(MAX_SOURCES);
     out.into_iter().map(|x| x.1).collect()
+}
+
+/// The widest an emissive quad may look from the lens (its longest side's
+/// angle, radians: 2 degrees) to be taken as a point source: a larger
+/// one's ghosts would be its own shape blurred, which a point's are not,
+/// and it makes none.
+pub const FLAT_SOURCE_RAD: f64 = 0.035;
+
+/// An emissive quad small as the lens sees it ([`FLAT_SOURCE_RAD`]), its
+/// front facing the lens, as a point source at its centre (the lens
+/// frame, mm): its power for ranking, the point, its intensity per unit
+/// radiance (its area times the cosine toward the lens, mm^2) and its
+/// radiance at `nms`. `None` for any other shape (a mesh's triangles are
+/// not taken one by one: a lamp of many would keep only the
+/// [`MAX_SOURCES`] brightest).
+fn small_flat_source(
+    cam: &RealLensCamera,
+    shape: &Shape,
+    m: &Material,
+    nms: &[f64],
+    at: &impl Fn(f64) -> Spectral,
+) -> Option<(f64, DVec3, f64, Vec<f64>)> {
+    let corners: Vec<DVec3> = match *shape {
+        Shape::Quad { corner, u, v } => vec![corner, corner + u, corner + u + v, corner + v],
+        _ => return None,
+    };
+    let n = corners.len();
+    // the area vector of the polygon (m^2, along its front side's normal,
+    // as the shape's hit normal) and its centre, in the scene
+    let area = (1..n - 1).map(|k| (corners[k] - corners[0]).cross(corners[k + 1] - corners[0])).sum::<DVec3>() / 2.0;
+    let middle = corners.iter().sum::<DVec3>() / n as f64;
+    let front = DVec3::new(0.0, 0.0, -1.0);
+    let eye = cam.ray_to_scene(front, DVec3::Z).origin;
+    let cos = area.dot(eye - middle) / (area.length() * (eye - middle).length());
+    // where the lens sees it (mm)
+    let lens: Vec<DVec3> = corners.iter().map(|&p| cam.point_to_lens(p)).collect();
+    let centre = cam.point_to_lens(middle);
+    let r = (front - centre).length();
+    let longest = (0..n).map(|k| (lens[(k + 1) % n] - lens[k]).length()).fold(0.0, f64::max);
+    if centre.z >= front.z || cos.is_nan() || cos <= 0.0 || longest > FLAT_SOURCE_RAD * r {
+        return None;
+    }
+    let projected = area.length() * 1e6 * cos;
+    let radiance: Vec<f64> = nms.iter().map(|&nm| m.emitted(&at(nm), cos).0[0]).collect();
+    let power = projected * radiance.iter().sum::<f64>() / (r * r);
+    Some((power, centre, projected, radiance))
 }
 
 /// The film's value at film point (x, y) mm from a level's grid: bilinear

@@ -21,14 +21,23 @@ fn data() -> std::path::PathBuf {
 /// uncoated 100 mm singlet, at 550 nm alone, on a 160 x 120 film of 36 x
 /// 27 mm (square pixels).
 fn lamp_scene(lamp: DVec3, flare: &str) -> Scene {
+    let (x, y, z) = (lamp.x, lamp.y, lamp.z);
+    singlet_scene(
+        &format!(r#"{{"type": "sphere", "center": [{x}, {y}, {z}], "radius": 0.02, "material": "l"}}"#),
+        flare,
+    )
+}
+
+/// The scene of [`lamp_scene`] with the one shape `shape` (JSON, of the
+/// emissive material "l") for its lamp.
+fn singlet_scene(shape: &str, flare: &str) -> Scene {
     let json = format!(
         r#"{{"camera": {{"type": "lens", "prescription": "../singlet-n-bk7-100mm.json", "f_number": 5.6,
               "focus_distance": 3.0, "sensor_mm": [36, 27], "coating": "none",
               "position": [0, 0, 0], "look_at": [0, 0, 1]}},
             "film": {{"width": 160, "height": 120, "spp": 16, "wavelength_nm": 550, "flare": "{flare}"}},
             "materials": {{"l": {{"type": "emissive", "radiance": [1000, 1000, 1000]}}}},
-            "shapes": [{{"type": "sphere", "center": [{}, {}, {}], "radius": 0.02, "material": "l"}}]}}"#,
-        lamp.x, lamp.y, lamp.z
+            "shapes": [{shape}]}}"#
     );
     let file: SceneFile = serde_json::from_str(&json).unwrap();
     Scene::build(file, &data(), "<test>").unwrap()
@@ -243,22 +252,13 @@ fn ghost_light_at_f16(shape: &str, lamp: DVec3) -> (f64, f64) {
 #[test]
 fn small_flat_lamps_make_ghosts() {
     let lamp = DVec3::new(0.25, 0.15, 4.0);
-    let layer = |shape: &str| -> f64 {
-        let json = format!(
-            r#"{{"camera": {{"type": "lens", "prescription": "../singlet-n-bk7-100mm.json", "f_number": 5.6,
-                  "focus_distance": 3.0, "sensor_mm": [36, 27], "coating": "none",
-                  "position": [0, 0, 0], "look_at": [0, 0, 1]}},
-                "film": {{"width": 160, "height": 120, "spp": 4, "wavelength_nm": 550, "flare": "ghosts"}},
-                "materials": {{"l": {{"type": "emissive", "radiance": [1000, 1000, 1000]}}}},
-                "shapes": [{shape}]}}"#
-        );
-        let file: SceneFile = serde_json::from_str(&json).unwrap();
-        let scene = Scene::build(file, &data(), "<test>").unwrap();
+    let light = |scene: Scene| -> f64 {
         let Camera::Real(cam) = &scene.camera else { panic!("a real lens") };
         ghost_layer(&scene, cam, 160, 120, 0.0).iter().map(|v| v.y).sum()
     };
+    let layer = |shape: &str| light(singlet_scene(shape, "ghosts"));
     let (x, y, z) = (lamp.x, lamp.y, lamp.z);
-    let sphere = layer(&format!(r#"{{"type": "sphere", "center": [{x}, {y}, {z}], "radius": 0.02, "material": "l"}}"#));
+    let sphere = light(lamp_scene(lamp, "ghosts"));
     // a square `a` wide centred on the lamp, its front (u x v) toward -z
     // (the camera) or +z
     let quad = |a: f64, toward: f64| {

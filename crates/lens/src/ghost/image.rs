@@ -372,26 +372,20 @@ pub fn rasterise_with(
     let grid = Grid { tracer, entrance, source, film, edge_steps, origin, unit, traced: &traced };
     let hits = (0..=n).flat_map(|j| (0..=n).map(move |i| (i, j))).filter(|&(i, j)| corners[j][i].0.is_some());
     image.entered = entrance.around_cells(side, hits, 1.0);
-    // every ray the cells will ask for, traced ahead in batches
     let depth = MAX_SPLITS - splits.min(MAX_SPLITS);
-    let todo: Vec<Todo> = (0..n)
+    let cells: Vec<Cell> = (0..n)
         .flat_map(|j| (0..n).map(move |i| (i, j)))
-        .map(|(i, j)| Todo {
+        .map(|(i, j)| Cell {
             xy: [entrance.centre[0] + at(i), entrance.centre[1] + at(j)],
             side,
             c: [corners[j][i], corners[j][i + 1], corners[j + 1][i + 1], corners[j + 1][i]],
             depth,
         })
         .collect();
-    grid.trace_ahead(todo);
-    for j in 0..n {
-        for i in 0..n {
-            let c = [corners[j][i], corners[j][i + 1], corners[j + 1][i + 1], corners[j + 1][i]];
-            let x = entrance.centre[0] + at(i);
-            let y = entrance.centre[1] + at(j);
-            let depth = MAX_SPLITS - splits.min(MAX_SPLITS);
-            cell(&grid, &mut image, [x, y], side, c, depth);
-        }
+    // every ray the cells will ask for, traced ahead in batches
+    grid.trace_ahead(cells.clone());
+    for c in cells {
+        cell(&grid, &mut image, c);
     }
     image
 }
@@ -421,14 +415,53 @@ struct Grid<'a> {
     traced: &'a RefCell<Traced>,
 }
 
-/// A cell still to be looked at (see [`cell`]): its lower corner, side,
-/// corners and depth of splitting.
+/// A cell of the entrance grid or of its splits: its lower corner `xy`
+/// and side (mm), its corners' rays `c` (counter-clockwise from the lower
+/// left) and how many times the grid's cells were split to make it.
 #[derive(Clone, Copy)]
-struct Todo {
+struct Cell {
     xy: [f64; 2],
     side: f64,
     c: [(Corner, f64); 4],
     depth: u32,
+}
+
+impl Cell {
+    /// Its corners' entrance points, counter-clockwise from the lower left.
+    fn points(&self) -> [[f64; 2]; 4] {
+        let ([x, y], side) = (self.xy, self.side);
+        [[x, y], [x + side, y], [x + side, y + side], [x, y + side]]
+    }
+
+    /// The points that split it in four: the midpoints of its bottom,
+    /// right, top and left sides, and its centre.
+    fn split_points(&self) -> [[f64; 2]; 5] {
+        let ([x, y], side, h) = (self.xy, self.side, self.side / 2.0);
+        [(h, 0.0), (side, h), (h, side), (0.0, h), (h, h)].map(|(dx, dy)| [x + dx, y + dy])
+    }
+
+    /// Its four quarters, from the rays `[b, r, t, l, m]` at its
+    /// [`Self::split_points`].
+    fn quarters(&self, [b, r, t, l, m]: [(Corner, f64); 5]) -> [Cell; 4] {
+        let ([x, y], h, c, depth) = (self.xy, self.side / 2.0, self.c, self.depth + 1);
+        [
+            Cell { xy: [x, y], side: h, c: [c[0], b, m, l], depth },
+            Cell { xy: [x + h, y], side: h, c: [b, c[1], r, m], depth },
+            Cell { xy: [x + h, y + h], side: h, c: [m, r, c[2], t], depth },
+            Cell { xy: [x, y + h], side: h, c: [l, m, t, c[3]], depth },
+        ]
+    }
+
+    /// Side `k` (from corner k to corner k + 1) where one end reached the
+    /// film and the other did not: its ends, from the one that reached.
+    fn mixed_side(&self, k: usize) -> Option<([f64; 2], [f64; 2])> {
+        let (a, b, at) = (k, (k + 1) % 4, self.points());
+        match (self.c[a].0.is_some(), self.c[b].0.is_some()) {
+            (true, false) => Some((at[a], at[b])),
+            (false, true) => Some((at[b], at[a])),
+            _ => None,
+        }
+    }
 }
 
 /// A mixed side of an edge cell being bisected: the ends that reached and
@@ -459,21 +492,18 @@ impl Grid<'_> {
     /// Traces the points of `at` not traced yet, together, and keeps them.
     fn trace_all(&self, at: &[[f64; 2]]) {
         let mut seen = std::collections::HashSet::new();
-        let fresh: Vec<[f64; 2]> = {
+        let (keys, fresh): (Vec<(i64, i64)>, Vec<[f64; 2]>) = {
             let traced = self.traced.borrow();
             at.iter()
-                .copied()
-                .filter(|p| !traced.contains_key(&self.key(p[0], p[1])) && seen.insert(self.key(p[0], p[1])))
-                .collect()
+                .map(|&p| (self.key(p[0], p[1]), p))
+                .filter(|(k, _)| !traced.contains_key(k) && seen.insert(*k))
+                .unzip()
         };
         if fresh.is_empty() {
             return;
         }
         let out = corners(self.tracer, self.entrance, self.source, &fresh);
-        let mut traced = self.traced.borrow_mut();
-        for (p, c) in fresh.iter().zip(out) {
-            traced.insert(self.key(p[0], p[1]), c);
-        }
+        self.traced.borrow_mut().extend(keys.into_iter().zip(out));
     }
 
     /// Traces ahead, a level at a time and each level's rays together,
@@ -483,8 +513,8 @@ impl Grid<'_> {
     /// same decisions as theirs from the same rays, so that they then find
     /// every ray traced (and the image is the same bits as tracing each
     /// when asked).
-    fn trace_ahead(&self, mut todo: Vec<Todo>) {
-        let mut edges: Vec<Todo> = Vec::new();
+    fn trace_ahead(&self, mut todo: Vec<Cell>) {
+        let mut edges: Vec<Cell> = Vec::new();
         while !todo.is_empty() {
             let mut split = Vec::new();
             for t in todo {
@@ -498,43 +528,16 @@ impl Grid<'_> {
                     split.push(t);
                 }
             }
-            let points: Vec<[f64; 2]> = split
-                .iter()
-                .flat_map(|t| {
-                    let (xy, side, h) = (t.xy, t.side, t.side / 2.0);
-                    [(h, 0.0), (side, h), (h, side), (0.0, h), (h, h)].map(|(dx, dy)| [xy[0] + dx, xy[1] + dy])
-                })
-                .collect();
+            let points: Vec<[f64; 2]> = split.iter().flat_map(Cell::split_points).collect();
             self.trace_all(&points);
-            todo = split
-                .iter()
-                .flat_map(|t| {
-                    let (xy, side, h, c) = (t.xy, t.side, t.side / 2.0, t.c);
-                    let at = |dx: f64, dy: f64| self.corner(xy[0] + dx, xy[1] + dy);
-                    let (b, r, tp, l, m) = (at(h, 0.0), at(side, h), at(h, side), at(0.0, h), at(h, h));
-                    let depth = t.depth + 1;
-                    [
-                        Todo { xy: [xy[0], xy[1]], side: h, c: [c[0], b, m, l], depth },
-                        Todo { xy: [xy[0] + h, xy[1]], side: h, c: [b, c[1], r, m], depth },
-                        Todo { xy: [xy[0] + h, xy[1] + h], side: h, c: [m, r, c[2], tp], depth },
-                        Todo { xy: [xy[0], xy[1] + h], side: h, c: [l, m, tp, c[3]], depth },
-                    ]
-                })
-                .collect();
+            todo = split.iter().flat_map(|t| t.quarters(t.split_points().map(|[x, y]| self.corner(x, y)))).collect();
         }
         // the finest mixed cells' mixed sides, bisected a step at a time
-        let mut sides: Vec<Bisect> = Vec::new();
-        for t in &edges {
-            let (xy, side, c) = (t.xy, t.side, t.c);
-            let at = [[xy[0], xy[1]], [xy[0] + side, xy[1]], [xy[0] + side, xy[1] + side], [xy[0], xy[1] + side]];
-            for k in 0..4 {
-                let (a, b) = (k, (k + 1) % 4);
-                if c[a].0.is_some() != c[b].0.is_some() {
-                    let (lo, hi) = if c[a].0.is_some() { (at[a], at[b]) } else { (at[b], at[a]) };
-                    sides.push(Bisect { lo, hi });
-                }
-            }
-        }
+        let mut sides: Vec<Bisect> = edges
+            .iter()
+            .flat_map(|t| (0..4).filter_map(|k| t.mixed_side(k)))
+            .map(|(lo, hi)| Bisect { lo, hi })
+            .collect();
         for _ in 0..self.edge_steps {
             let mids: Vec<[f64; 2]> =
                 sides.iter().map(|b| [(b.lo[0] + b.hi[0]) / 2.0, (b.lo[1] + b.hi[1]) / 2.0]).collect();
@@ -560,21 +563,17 @@ pub const EDGE_STEPS: u32 = 4;
 /// film triangles, each with its share of the polygon's area on the
 /// entrance. Where fewer than three points bound it, the power lands on
 /// the segment or point they make.
-fn edge_cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, f64); 4]) {
+fn edge_cell(g: &Grid, image: &mut GhostImage, cell: &Cell) {
     let (film, steps) = (g.film, g.edge_steps);
-    let at = [[xy[0], xy[1]], [xy[0] + side, xy[1]], [xy[0] + side, xy[1] + side], [xy[0], xy[1] + side]];
+    let (c, side, at) = (cell.c, cell.side, cell.points());
     // (entrance point, film point, Fresnel weight, density)
     let mut poly: Vec<([f64; 2], [f64; 2], f64, f64)> = Vec::with_capacity(8);
     for k in 0..4 {
-        let (a, b) = (k, (k + 1) % 4);
-        if let Some((f, w)) = c[a].0 {
-            poly.push((at[a], f, w, c[a].1));
-        }
-        if c[a].0.is_some() == c[b].0.is_some() {
-            continue;
+        if let Some((f, w)) = c[k].0 {
+            poly.push((at[k], f, w, c[k].1));
         }
         // from the end that reached toward the one that did not
-        let (mut lo, mut hi) = if c[a].0.is_some() { (at[a], at[b]) } else { (at[b], at[a]) };
+        let Some((mut lo, mut hi)) = cell.mixed_side(k) else { continue };
         let mut last = None;
         for _ in 0..steps {
             let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
@@ -620,11 +619,10 @@ fn edge_cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Cor
     }
 }
 
-/// One cell of the entrance grid, its lower corner at `xy` and its side
-/// `side` mm, its corners `c` (counter-clockwise from the lower left):
-/// deposited, or split where its corners disagree.
-fn cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, f64); 4], depth: u32) {
-    let film = g.film;
+/// One cell of the entrance grid (or of its splits): deposited, or split
+/// where its corners disagree.
+fn cell(g: &Grid, image: &mut GhostImage, here: Cell) {
+    let (film, c, side) = (g.film, here.c, here.side);
     let reached = c.iter().filter(|k| k.0.is_some()).count();
     if reached == 0 {
         return;
@@ -641,21 +639,12 @@ fn cell(g: &Grid, image: &mut GhostImage, xy: [f64; 2], side: f64, c: [(Corner, 
         image.deposit_triangle(film, power / 2.0, [p[0].0, p[2].0, p[3].0]);
         return;
     }
-    if depth >= MAX_SPLITS {
-        edge_cell(g, image, xy, side, c);
+    if here.depth >= MAX_SPLITS {
+        edge_cell(g, image, &here);
         return;
     }
-    let h = side / 2.0;
-    let trace = |dx: f64, dy: f64| g.corner(xy[0] + dx, xy[1] + dy);
-    let (b, r, t, l, m) = (trace(h, 0.0), trace(side, h), trace(h, side), trace(0.0, h), trace(h, h));
-    let quads = [
-        ([xy[0], xy[1]], [c[0], b, m, l]),
-        ([xy[0] + h, xy[1]], [b, c[1], r, m]),
-        ([xy[0] + h, xy[1] + h], [m, r, c[2], t]),
-        ([xy[0], xy[1] + h], [l, m, t, c[3]]),
-    ];
-    for (at, q) in quads {
-        cell(g, image, at, h, q, depth + 1);
+    for quarter in here.quarters(here.split_points().map(|[x, y]| g.corner(x, y))) {
+        cell(g, image, quarter);
     }
 }
 

@@ -32,27 +32,26 @@
 //! A film pixel measures `1 / (norm A_pix)` times the power reaching it
 //! (`lamp_light`), so a ghost adds its irradiance over `norm`.
 
+mod bands;
 mod entrance;
+mod sources;
 
 use super::lamp_light::FilmPlan;
 use super::real_lens::RealLensCamera;
-use super::sky_patches;
-use crate::envmap::direction;
-use crate::geometry::{Shape, EPS};
-use crate::material::Material;
 use crate::scene::format::FlareSpec;
-use crate::scene::{Background, ColourMode, Scene};
-use crate::spectrum::{cie, SampledWavelengths};
-use crate::transport::Spectral;
+use crate::scene::Scene;
+use bands::{dispersed, interpolate, wavelengths, FineBands};
+pub use bands::{FINE, OVERLAP};
 use entrance::{footprints, toward_stop};
 use glam::DVec3;
 use lens::coating::ReflectanceTable;
 use lens::ghost::image::Entrance;
-use lens::ghost::{ghost_pairs, rasterise_with, FilmGrid, Source, EDGE_STEPS};
+use lens::ghost::{ghost_pairs, rasterise_with, FilmGrid, EDGE_STEPS};
 use lens::trace::StopShape;
 use lens::{Outcome, Prescription, Ray, Tracer};
 use rayon::prelude::*;
-use std::f64::consts::{PI, TAU};
+pub use sources::FLAT_SOURCE_RAD;
+use sources::{bright_sources, Bright};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, OnceLock};
 
@@ -102,16 +101,6 @@ struct Looked {
     /// Its extent on the film: lower and upper corners, mm.
     lo: [f64; 2],
     hi: [f64; 2],
-}
-
-/// One bright source, in the lens frame, with its light per wavelength.
-struct Bright {
-    source: Source,
-    /// Radiant intensity (a point, per unit radiance: sr mm^2) or
-    /// irradiance (a direction, per unit radiance: sr) scale.
-    scale: f64,
-    /// Its radiance at each of the flare's wavelengths.
-    radiance: Vec<f64>,
 }
 
 /// Adds the lens flare of `scene` through `cam` to `film` (linear sRGB,
@@ -383,223 +372,9 @@ fn stop_shape(cam: &RealLensCamera) -> Option<StopShape> {
     Some(StopShape { surface: p.stop_index(), transmission })
 }
 
-/// The flare's wavelengths and each one's colour weight (linear sRGB per
-/// unit radiance): [`WAVELENGTHS`] bands over 400-700 nm ([`bands`]); or
-/// the one wavelength of a monochromatic render (grey, weight 1).
-fn wavelengths(colour: &ColourMode) -> (Vec<f64>, Vec<DVec3>) {
-    if let ColourMode::Monochromatic(nm) = colour {
-        return (vec![*nm], vec![DVec3::ONE]);
-    }
-    bands(WAVELENGTHS)
-}
-
-/// `n` equal bands over 400-700 nm: their midpoints and each one's colour
-/// weight (linear sRGB per unit radiance), each channel scaled so that a
-/// flat spectrum of 1 gives the colour of the colour matching functions
-/// summed over every nanometre of the range (normalised to luminance 1):
-/// the same white for any number of bands, so that a ghost drawn at finer
-/// bands changes colour only where its spectrum does.
-fn bands(n: usize) -> (Vec<f64>, Vec<DVec3>) {
-    let band = 300.0 / n as f64;
-    let nms: Vec<f64> = (0..n).map(|k| 400.0 + (k as f64 + 0.5) * band).collect();
-    let rgb = |nms: &[f64]| -> Vec<DVec3> {
-        let y: f64 = nms.iter().map(|&nm| cie::cmf(nm).y).sum();
-        nms.iter().map(|&nm| cie::xyz_to_rgb(cie::cmf(nm) / y)).collect()
-    };
-    let every: Vec<f64> = (0..300).map(|k| 400.5 + k as f64).collect();
-    let white: DVec3 = rgb(&every).iter().sum();
-    let colours = rgb(&nms);
-    let sum: DVec3 = colours.iter().sum();
-    let scale = white / sum;
-    (nms, colours.into_iter().map(|c| c * scale).collect())
-}
-
-/// Bands each of the flare's wavelengths is cut into where a ghost's
-/// copies at those wavelengths lie apart ([`dispersed`]): its colours then
-/// run along it as a spectrum does, not in [`WAVELENGTHS`] steps. Odd, so
-/// that the middle one is the band's own wavelength (its image is drawn
-/// already): each such ghost costs `WAVELENGTHS * (FINE - 1)` images more.
-pub const FINE: usize = 3;
-const _: () = assert!(FINE % 2 == 1);
-
-/// The [`FINE`] bands of each flare band (their midpoints and colours)
-/// with the lens at each and its coatings' reflectance table.
-struct FineBands {
-    nms: Vec<f64>,
-    colours: Vec<DVec3>,
-    lenses: Vec<Prescription>,
-    tables: Vec<Arc<ReflectanceTable>>,
-}
-
-impl FineBands {
-    /// `fine` (odd) bands in each of the flare's, through `p`.
-    fn new(p: &Prescription, fine: usize) -> Self {
-        let (nms, colours) = bands(WAVELENGTHS * fine);
-        let lenses: Vec<Prescription> =
-            nms.iter().map(|&nm| p.at_wavelength(nm).unwrap_or_else(|_| p.clone())).collect();
-        let tables = lenses.par_iter().map(|l| Arc::new(Tracer::forward(l).reflectance_table())).collect();
-        FineBands { nms, colours, lenses, tables }
-    }
-}
-
-/// Whether a ghost's images at neighbouring flare wavelengths (`images`,
-/// each on one grid, `None` where the path does not exist) lie apart:
-/// squared (which weighs the bright parts: a caustic's line rather than
-/// the glow around it) and normalised to 1, less than [`OVERLAP`] in
-/// common (the sum over pixels of the smaller). Dispersion moves a small
-/// ghost, a thin caustic or one focused near the film by more than its
-/// width between bands 75 nm apart; drawn at those wavelengths alone it
-/// would be [`WAVELENGTHS`] coloured copies. A large ghost moved by a
-/// fraction of its size keeps most in common.
-fn dispersed(images: &[Option<Vec<f64>>]) -> bool {
-    let unit = |img: &Vec<f64>| -> Option<Vec<f64>> {
-        let total: f64 = img.iter().map(|v| v * v).sum();
-        (total > 0.0).then(|| img.iter().map(|v| v * v / total).collect())
-    };
-    let units: Vec<Option<Vec<f64>>> = images.iter().map(|i| i.as_ref().and_then(unit)).collect();
-    units.windows(2).any(|w| match (&w[0], &w[1]) {
-        (Some(a), Some(b)) => a.iter().zip(b).map(|(x, y)| x.min(*y)).sum::<f64>() < OVERLAP,
-        _ => false,
-    })
-}
-
-/// What two neighbouring bands' images of a ghost (squared, each
-/// normalised to 1) must have in common for it to be drawn at those bands
-/// alone: at 0.5 a caustic line split in four stayed so.
-pub const OVERLAP: f64 = 0.7;
-
-/// `values` (at the increasing wavelengths `nms`) at `nm`: linear between
-/// them, the end value beyond them.
-fn interpolate(nms: &[f64], values: &[f64], nm: f64) -> f64 {
-    let k = nms.partition_point(|&x| x < nm);
-    if k == 0 {
-        return values[0];
-    }
-    if k == nms.len() {
-        return values[nms.len() - 1];
-    }
-    let f = (nm - nms[k - 1]) / (nms[k] - nms[k - 1]);
-    values[k - 1] + f * (values[k] - values[k - 1])
-}
-
 /// Relative luminance of linear sRGB.
 fn luminance(v: DVec3) -> f64 {
     0.2126 * v.x + 0.7152 * v.y + 0.0722 * v.z
-}
-
-/// The scene's bright sources seen by the lens (see the module), at most
-/// [`MAX_SOURCES`], the most powerful first.
-fn bright_sources(scene: &Scene, cam: &RealLensCamera, nms: &[f64]) -> Vec<Bright> {
-    let front = DVec3::new(0.0, 0.0, -1.0);
-    let seen = |d: DVec3, prim: Option<usize>| {
-        let ray = cam.ray_to_scene(front, d);
-        let eps = EPS * (1.0 + ray.origin.abs().max_element());
-        match scene.intersect(&ray, eps, f64::INFINITY) {
-            Some((hit, _)) => prim == Some(hit),
-            None => prim.is_none(),
-        }
-    };
-    let at = |nm: f64| Spectral::new(SampledWavelengths::single(nm));
-    let mut out: Vec<(f64, Bright)> = Vec::new();
-    for (i, shape) in scene.shapes.iter().enumerate() {
-        let m = &scene.materials[scene.material_of[i]];
-        if !matches!(m, Material::Emissive { .. }) {
-            continue;
-        }
-        if let Some(b) = small_flat_source(cam, shape, m, nms, &at) {
-            if seen((b.1 - front).normalize(), Some(i)) {
-                out.push((b.0, Bright { source: Source::Point(b.1), scale: b.2, radiance: b.3 }));
-            }
-            continue;
-        }
-        let Shape::Sphere { center, radius } = shape else { continue };
-        let c = cam.point_to_lens(*center);
-        let rho = radius * 1e3;
-        let r = (c - front).length();
-        if c.z + rho >= front.z || r <= rho || !seen((c - front).normalize(), Some(i)) {
-            continue;
-        }
-        // the disc's solid angle from the front, times r^2: intensity per
-        // unit radiance, sr mm^2
-        let solid = TAU * (1.0 - (1.0 - (rho / r).powi(2)).max(0.0).sqrt());
-        let radiance: Vec<f64> = nms.iter().map(|&nm| m.emitted(&at(nm), 1.0).0[0]).collect();
-        let scale = solid * r * r;
-        let power = scale * radiance.iter().sum::<f64>() / (r * r);
-        out.push((power, Bright { source: Source::Point(c), scale, radiance }));
-    }
-    if let Background::Environment(img) = &scene.background {
-        for patch in sky_patches::find(img) {
-            let (w, h) = (img.width, img.height);
-            let mut radiance = vec![0.0; nms.len()];
-            let mut centre = DVec3::ZERO;
-            for &k in patch.texels() {
-                let (u, v) = (((k % w) as f64 + 0.5) / w as f64, ((k / w) as f64 + 0.5) / h as f64);
-                let d = direction(u, v);
-                let solid = (TAU / w as f64) * (PI / h as f64) * (v * PI).sin();
-                for (r, &nm) in radiance.iter_mut().zip(nms) {
-                    *r += scene.background.radiance(&at(nm), d).0[0] * solid;
-                }
-                centre += d * solid * scene.background.radiance(&at(550.0), d).0[0];
-            }
-            let toward = cam.dir_to_lens(centre.normalize_or(DVec3::Z));
-            if toward.z >= 0.0 || !seen(toward, None) {
-                continue;
-            }
-            let power = radiance.iter().sum::<f64>();
-            // irradiance per unit radiance: the patch's solid angle, carried
-            // in `radiance` already (scale 1)
-            out.push((power, Bright { source: Source::Direction(-toward), scale: 1.0, radiance }));
-        }
-    }
-    out.sort_by(|a, b| b.0.total_cmp(&a.0));
-    out.truncate(MAX_SOURCES);
-    out.into_iter().map(|x| x.1).collect()
-}
-
-/// The widest an emissive quad may look from the lens (its longest side's
-/// angle, radians: 2 degrees) to be taken as a point source: a larger
-/// one's ghosts would be its own shape blurred, which a point's are not,
-/// and it makes none.
-pub const FLAT_SOURCE_RAD: f64 = 0.035;
-
-/// An emissive quad small as the lens sees it ([`FLAT_SOURCE_RAD`]), its
-/// front facing the lens, as a point source at its centre (the lens
-/// frame, mm): its power for ranking, the point, its intensity per unit
-/// radiance (its area times the cosine toward the lens, mm^2) and its
-/// radiance at `nms`. `None` for any other shape (a mesh's triangles are
-/// not taken one by one: a lamp of many would keep only the
-/// [`MAX_SOURCES`] brightest).
-fn small_flat_source(
-    cam: &RealLensCamera,
-    shape: &Shape,
-    m: &Material,
-    nms: &[f64],
-    at: &impl Fn(f64) -> Spectral,
-) -> Option<(f64, DVec3, f64, Vec<f64>)> {
-    let corners: Vec<DVec3> = match *shape {
-        Shape::Quad { corner, u, v } => vec![corner, corner + u, corner + u + v, corner + v],
-        _ => return None,
-    };
-    let n = corners.len();
-    // the area vector of the polygon (m^2, along its front side's normal,
-    // as the shape's hit normal) and its centre, in the scene
-    let area = (1..n - 1).map(|k| (corners[k] - corners[0]).cross(corners[k + 1] - corners[0])).sum::<DVec3>() / 2.0;
-    let middle = corners.iter().sum::<DVec3>() / n as f64;
-    let front = DVec3::new(0.0, 0.0, -1.0);
-    let eye = cam.ray_to_scene(front, DVec3::Z).origin;
-    let cos = area.dot(eye - middle) / (area.length() * (eye - middle).length());
-    // where the lens sees it (mm)
-    let lens: Vec<DVec3> = corners.iter().map(|&p| cam.point_to_lens(p)).collect();
-    let centre = cam.point_to_lens(middle);
-    let r = (front - centre).length();
-    let longest = (0..n).map(|k| (lens[(k + 1) % n] - lens[k]).length()).fold(0.0, f64::max);
-    if centre.z >= front.z || cos.is_nan() || cos <= 0.0 || longest > FLAT_SOURCE_RAD * r {
-        return None;
-    }
-    let projected = area.length() * 1e6 * cos;
-    let radiance: Vec<f64> = nms.iter().map(|&nm| m.emitted(&at(nm), cos).0[0]).collect();
-    let power = projected * radiance.iter().sum::<f64>() / (r * r);
-    Some((power, centre, projected, radiance))
 }
 
 /// The film's value at film point (x, y) mm from a level's grid: bilinear
@@ -778,55 +553,6 @@ mod tests {
     use super::*;
     use crate::camera::Camera;
     use crate::scene::format::SceneFile;
-
-    /// The bands of a flat spectrum of 1 add up to the same white of
-    /// luminance 1, four of them or twelve or three hundred.
-    #[test]
-    fn a_flat_spectrum_is_the_same_white() {
-        let white: DVec3 = bands(300).1.iter().sum();
-        assert!((luminance(white) - 1.0).abs() < 1e-3, "{white}");
-        for n in [WAVELENGTHS, WAVELENGTHS * FINE] {
-            let (nms, colours) = bands(n);
-            assert_eq!(nms.len(), n);
-            let sum: DVec3 = colours.iter().sum();
-            assert!((sum - white).abs().max_element() < 1e-12, "{n} bands: {sum} vs {white}");
-        }
-    }
-
-    /// Linear between the wavelengths, the end values beyond them.
-    #[test]
-    fn interpolation_is_linear_and_held_at_the_ends() {
-        let (nms, v) = ([437.5, 512.5, 587.5], [1.0, 3.0, 2.0]);
-        assert_eq!(interpolate(&nms, &v, 400.0), 1.0);
-        assert_eq!(interpolate(&nms, &v, 437.5), 1.0);
-        assert!((interpolate(&nms, &v, 475.0) - 2.0).abs() < 1e-12);
-        assert!((interpolate(&nms, &v, 550.0) - 2.5).abs() < 1e-12);
-        assert_eq!(interpolate(&nms, &v, 700.0), 2.0);
-    }
-
-    /// Copies of a disc with less than [`OVERLAP`] of their light in
-    /// common are dispersed; overlapping copies, or a band with no image,
-    /// are not.
-    #[test]
-    fn copies_apart_are_dispersed() {
-        let grid = FilmGrid { centre_mm: [0.0; 2], pixel_mm: 0.02, nx: 200, ny: 200 };
-        // a disc of radius 0.5 mm about (x, 0)
-        let disc = |x: f64| -> Option<Vec<f64>> {
-            Some(
-                (0..200 * 200)
-                    .map(|q| {
-                        let c = grid.centre_of(q);
-                        f64::from(u8::from((c[0] - x).powi(2) + c[1] * c[1] <= 0.25))
-                    })
-                    .collect(),
-            )
-        };
-        // discs 1.2 radii apart share 28% of their area, 0.2 radii 87%
-        assert!(dispersed(&[disc(0.0), disc(0.6), disc(1.2)]));
-        assert!(!dispersed(&[disc(0.0), disc(0.1), disc(0.2)]));
-        assert!(!dispersed(&[disc(0.0), None, disc(1.5)]));
-        assert!(!dispersed(&[disc(0.0)]));
-    }
 
     /// The night street at f/8 behind six blades: the ghosts whose copies
     /// lie apart (dispersion moves them by more than their width) are drawn
